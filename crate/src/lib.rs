@@ -1,0 +1,37 @@
+//! MeshFlow: artist-like triangle meshes from point clouds.
+//!
+//! The method is "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based
+//! Diffusion Transformer" (CVPR 2026). This crate holds everything that runs the same natively
+//! and in the browser: mesh I/O, the geometry core, the per-vertex tokens the MeshVAE reads,
+//! the paper's Algorithm 1 mesh extraction and the evaluation metrics.
+//!
+//! Module map (one algorithm per file):
+//! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
+//! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
+//! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
+//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics).
+//! - [`normals`]: area-weighted vertex normals.
+//! - [`topology`]: edges, adjacency, boundary loops, components, the topology report.
+//! - [`sample`]: seeded area-uniform surface sampling.
+//! - [`voxel`]: voxel indices at resolution 32 for the DiT's RoPE-3D.
+//! - [`tokens`]: vertex order, padding, Fourier features and neighbour block for the MeshVAE.
+//! - [`extract`]: spacetime edge threshold and Algorithm 1 (edges -> faces -> repaired mesh).
+//! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
+//! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
+//! - [`rng`]: a small seeded generator so results are reproducible on every platform.
+
+pub mod clean;
+pub mod extract;
+pub mod io;
+pub mod mesh;
+pub mod metrics;
+pub mod normalize;
+pub mod normals;
+pub mod primitives;
+pub mod rng;
+pub mod sample;
+pub mod tokens;
+pub mod topology;
+pub mod voxel;
+
+pub use mesh::{Aabb, Mesh};
