@@ -1,0 +1,135 @@
+//! Shared helpers for the integration tests: the golden vectors from the reference
+//! implementation (`../shared/golden/` beside the checkout, or `$MESHFLOW_GOLDEN_DIR`).
+#![allow(dead_code)]
+
+use std::path::PathBuf;
+
+use safetensors::{Dtype, SafeTensors};
+
+/// The folder holding the golden files. Missing golden files fail the tests loudly: they are
+/// the only proof that this port matches the reference.
+pub fn golden_dir() -> PathBuf {
+    let dir = std::env::var_os("MESHFLOW_GOLDEN_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| {
+            PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../../shared/golden"))
+        });
+    assert!(
+        dir.join("README.md").is_file(),
+        "golden vectors not found at {} (set MESHFLOW_GOLDEN_DIR)",
+        dir.display()
+    );
+    dir
+}
+
+/// A golden safetensors file and its JSON description.
+pub struct Golden {
+    bytes: Vec<u8>,
+    pub json: serde_json::Value,
+}
+
+/// A tensor as flat data plus its shape.
+pub struct Tensor<T> {
+    pub shape: Vec<usize>,
+    pub data: Vec<T>,
+}
+
+impl Golden {
+    /// Loads `NAME.safetensors` and `NAME.json` from the golden folder.
+    pub fn load(name: &str) -> Golden {
+        let dir = golden_dir();
+        let bytes =
+            std::fs::read(dir.join(format!("{name}.safetensors"))).expect("golden safetensors");
+        let json = std::fs::read_to_string(dir.join(format!("{name}.json"))).expect("golden json");
+        Golden {
+            bytes,
+            json: serde_json::from_str(&json).expect("golden json parses"),
+        }
+    }
+
+    fn raw(&self, name: &str) -> (Dtype, Vec<usize>, Vec<u8>) {
+        let st = SafeTensors::deserialize(&self.bytes).expect("golden safetensors parses");
+        let t = st
+            .tensor(name)
+            .unwrap_or_else(|_| panic!("golden tensor {name} missing"));
+        (t.dtype(), t.shape().to_vec(), t.data().to_vec())
+    }
+
+    pub fn f32(&self, name: &str) -> Tensor<f32> {
+        let (dtype, shape, data) = self.raw(name);
+        let data = match dtype {
+            Dtype::F32 => data
+                .chunks_exact(4)
+                .map(|b| f32::from_le_bytes(b.try_into().unwrap()))
+                .collect(),
+            Dtype::F64 => data
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().unwrap()) as f32)
+                .collect(),
+            other => panic!("{name}: expected a float tensor, got {other:?}"),
+        };
+        Tensor { shape, data }
+    }
+
+    pub fn i64(&self, name: &str) -> Tensor<i64> {
+        let (dtype, shape, data) = self.raw(name);
+        assert_eq!(dtype, Dtype::I64, "{name}");
+        Tensor {
+            shape,
+            data: data
+                .chunks_exact(8)
+                .map(|b| i64::from_le_bytes(b.try_into().unwrap()))
+                .collect(),
+        }
+    }
+
+    pub fn vec3(&self, name: &str) -> Vec<glam::Vec3> {
+        let t = self.f32(name);
+        assert_eq!(*t.shape.last().unwrap(), 3, "{name}");
+        t.data.chunks_exact(3).map(glam::Vec3::from_slice).collect()
+    }
+
+    pub fn pairs(&self, name: &str) -> Vec<[u32; 2]> {
+        let t = self.i64(name);
+        t.data
+            .chunks_exact(2)
+            .map(|p| [p[0] as u32, p[1] as u32])
+            .collect()
+    }
+
+    pub fn triples(&self, name: &str) -> Vec<[u32; 3]> {
+        let t = self.i64(name);
+        t.data
+            .chunks_exact(3)
+            .map(|p| [p[0] as u32, p[1] as u32, p[2] as u32])
+            .collect()
+    }
+}
+
+/// Largest absolute difference, asserting equal lengths.
+pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
+    assert_eq!(a.len(), b.len());
+    a.iter()
+        .zip(b)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f32::max)
+}
+
+/// Faces rotated so the smallest index comes first (orientation kept), then sorted: the
+/// golden files' canonical form.
+pub fn canonical_faces(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
+    let mut out: Vec<[u32; 3]> = faces
+        .iter()
+        .map(|&[a, b, c]| {
+            if a <= b && a <= c {
+                [a, b, c]
+            } else if b <= c {
+                [b, c, a]
+            } else {
+                [c, a, b]
+            }
+        })
+        .collect();
+    out.sort_unstable();
+    out
+}
