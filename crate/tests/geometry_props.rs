@@ -1,0 +1,179 @@
+//! Property tests of the geometry core: normals, cleaning, voxels, vertex order and tokens.
+
+use glam::Vec3;
+use meshflow::Mesh;
+use meshflow::clean::{CleanOptions, clean};
+use meshflow::normals::{face_normal, vertex_normals};
+use meshflow::primitives::{cube, grid, icosphere};
+use meshflow::rng::Rng;
+use meshflow::tokens::{TokenConfig, build_tokens, vertex_order};
+use meshflow::topology;
+use meshflow::voxel::{VOXEL_RESOLUTION, voxel_index};
+use proptest::prelude::*;
+
+fn point() -> impl Strategy<Value = Vec3> {
+    (-1.0f32..1.0, -1.0f32..1.0, -1.0f32..1.0).prop_map(|(x, y, z)| Vec3::new(x, y, z))
+}
+
+/// A random triangle soup over 3..40 random points (faces may repeat or be degenerate).
+fn soup() -> impl Strategy<Value = Mesh> {
+    prop::collection::vec(point(), 3..40).prop_flat_map(|positions| {
+        let n = positions.len() as u32;
+        prop::collection::vec((0..n, 0..n, 0..n), 0..60).prop_map(move |faces| {
+            Mesh::new(
+                positions.clone(),
+                faces.into_iter().map(|(a, b, c)| [a, b, c]).collect(),
+            )
+        })
+    })
+}
+
+/// A soup with repeated points (exact and within the weld tolerance), duplicate, flipped and
+/// degenerate faces: everything cleaning is for.
+fn messy() -> impl Strategy<Value = Mesh> {
+    (soup(), any::<u64>()).prop_map(|(mut m, seed)| {
+        let mut rng = Rng::new(seed);
+        let n = m.positions.len();
+        for _ in 0..n / 2 {
+            let p = m.positions[rng.below(n)];
+            let jitter = if rng.below(2) == 0 { 0.0 } else { 1e-7 };
+            m.positions.push(p + Vec3::splat(jitter));
+        }
+        let total = m.positions.len() as u32;
+        let copies: Vec<[u32; 3]> = m.faces.iter().take(10).copied().collect();
+        for (i, f) in copies.into_iter().enumerate() {
+            m.faces.push(match i % 3 {
+                0 => f,
+                1 => [f[0], f[2], f[1]],
+                _ => [f[1], f[2], f[0]],
+            });
+        }
+        for _ in 0..5 {
+            let v = rng.below(total as usize) as u32;
+            m.faces.push([v, v, rng.below(total as usize) as u32]);
+        }
+        if rng.below(2) == 0 {
+            m.normals = (0..m.positions.len()).map(|i| Vec3::X * i as f32).collect();
+        }
+        m
+    })
+}
+
+/// Every face gets its own corners (as STL stores them), in a shuffled face order with each
+/// face's corners rotated.
+fn explode(m: &Mesh, seed: u64) -> Mesh {
+    let mut rng = Rng::new(seed);
+    let mut faces = m.faces.clone();
+    rng.shuffle(&mut faces);
+    let mut out = Mesh::default();
+    for f in faces {
+        let mut f = f;
+        f.rotate_left(rng.below(3));
+        let base = out.positions.len() as u32;
+        out.positions.extend(f.map(|i| m.positions[i as usize]));
+        out.faces.push([base, base + 1, base + 2]);
+    }
+    out
+}
+
+proptest! {
+    #[test]
+    fn normals_are_unit(m in soup()) {
+        let scale = m.aabb().unwrap().max_extent();
+        // Non-degenerate faces only (degenerate ones would be dropped by cleaning).
+        let faces: Vec<[u32; 3]> = (0..m.faces.len())
+            .filter(|&f| !topology::is_degenerate(&m, f, scale))
+            .map(|f| m.faces[f])
+            .collect();
+        for n in vertex_normals(&m.positions, &faces) {
+            prop_assert!((n.length() - 1.0).abs() < 1e-5, "{n}");
+        }
+        for f in &faces {
+            let n = face_normal(f.map(|i| m.positions[i as usize]));
+            prop_assert!((n.length() - 1.0).abs() < 1e-5, "{n}");
+        }
+    }
+
+    #[test]
+    fn cleaning_is_idempotent(m in messy()) {
+        let opts = CleanOptions::default();
+        let (once, _) = clean(&m, &opts);
+        let (twice, report) = clean(&once, &opts);
+        prop_assert!(report.is_empty(), "{report:?}");
+        prop_assert_eq!(twice, once.clone());
+        prop_assert_eq!(topology::TopologyReport::of(&once).degenerate_faces, 0);
+        prop_assert!(once.normals.is_empty() || once.normals.len() == once.positions.len());
+    }
+
+    #[test]
+    fn exploded_primitives_weld_back(seed in any::<u64>(), nx in 1u32..6, ny in 1u32..6) {
+        for m in [icosphere(2), cube(), grid(nx, ny)] {
+            let (c, r) = clean(&explode(&m, seed), &CleanOptions::default());
+            prop_assert_eq!(c.positions.len(), m.positions.len());
+            prop_assert_eq!(c.faces.len(), m.faces.len());
+            prop_assert_eq!(r.welded_vertices, 3 * m.faces.len() - m.positions.len());
+            let (a, b) = (topology::TopologyReport::of(&c), topology::TopologyReport::of(&m));
+            prop_assert_eq!(a, b);
+        }
+    }
+
+    #[test]
+    fn voxel_indices_in_range(x in any::<f32>(), y in any::<f32>(), z in -2.0f32..2.0) {
+        for i in voxel_index(Vec3::new(x, y, z)) {
+            prop_assert!(i < VOXEL_RESOLUTION);
+        }
+    }
+
+    #[test]
+    fn vertex_order_is_sorted_permutation(
+        pts in prop::collection::vec(
+            // A few distinct values so ties are common.
+            (0u8..4, 0u8..4, 0u8..4).prop_map(|(x, y, z)| Vec3::new(x as f32, y as f32, z as f32)),
+            0..60,
+        )
+    ) {
+        let order = vertex_order(&pts);
+        let mut seen = order.clone();
+        seen.sort_unstable();
+        prop_assert_eq!(seen, (0..pts.len() as u32).collect::<Vec<_>>());
+        for w in order.windows(2) {
+            let (p, q) = (pts[w[0] as usize], pts[w[1] as usize]);
+            let key = |p: Vec3| (p.z, p.y, p.x);
+            prop_assert!(key(p) < key(q) || (key(p) == key(q) && w[0] < w[1]));
+        }
+    }
+
+    #[test]
+    fn tokens_are_consistent(m in soup(), extra in 0usize..20, seed in any::<u64>()) {
+        let cfg = TokenConfig { num_vertices: m.positions.len() + extra, max_degree: 6, num_freqs: 4 };
+        let t = build_tokens(&m, &cfg, seed).unwrap();
+        let c = t.in_channels;
+        prop_assert_eq!(c, cfg.in_channels());
+        prop_assert_eq!(t.features.len(), cfg.num_vertices * c);
+        prop_assert_eq!(t.mask.iter().filter(|&&b| b).count(), t.num_real);
+        prop_assert_eq!(t.num_real, m.positions.len());
+        prop_assert!(t.mask[..t.num_real].iter().all(|&b| b));
+        for i in t.num_real..cfg.num_vertices {
+            let row = t.row(i);
+            prop_assert!((0..t.num_real).any(|j| t.row(j) == row));
+            prop_assert!(t.positions[..t.num_real].contains(&t.positions[i]));
+        }
+        for (tok, &v) in t.order.iter().enumerate() {
+            prop_assert_eq!(t.positions[tok], m.positions[v as usize]);
+        }
+        let mut rank = vec![0u32; m.positions.len()];
+        for (tok, &v) in t.order.iter().enumerate() {
+            rank[v as usize] = tok as u32;
+        }
+        let mut want: Vec<[u32; 2]> = topology::edges(&m.faces)
+            .into_iter()
+            .map(|[a, b]| {
+                let (a, b) = (rank[a as usize], rank[b as usize]);
+                [a.min(b), a.max(b)]
+            })
+            .collect();
+        want.sort_unstable();
+        prop_assert_eq!(&t.edges, &want);
+        prop_assert!(t.edges.windows(2).all(|w| w[0] < w[1]));
+    }
+}
