@@ -151,7 +151,8 @@ pub fn spacetime_edges(
     // g^T laid out dimension-major and padded to a whole number of column blocks.
     let cols = n.div_ceil(COL_BLOCK) * COL_BLOCK;
     let mut g_t = vec![0.0f32; dim * cols];
-    let mut q = vec![0.0f32; cols];
+    // Padding columns get q = -inf, so they never pass the threshold.
+    let mut q = vec![f32::NEG_INFINITY; cols];
     for j in 0..n {
         let h = &embeddings[j * dim..(j + 1) * dim];
         for k in 0..dim {
@@ -170,15 +171,12 @@ pub fn spacetime_edges(
         tau,
     };
     let mut edges = Vec::new();
-    #[cfg(target_arch = "x86_64")]
-    {
-        if std::is_x86_feature_detected!("avx2") {
-            // SAFETY: the CPU supports AVX2, checked just above.
-            unsafe { threshold_rows_avx2(&block, &mut edges) };
-            return Ok(edges);
-        }
+    match dim {
+        32 => threshold_dispatch::<32>(&block, &mut edges),
+        _ => threshold_rows_any(&block, &mut edges),
     }
-    threshold_rows(&block, &mut edges);
+    // Rows were visited in blocks; restore the lexicographic order callers rely on.
+    edges.sort_unstable();
     Ok(edges)
 }
 
@@ -195,54 +193,69 @@ struct ThresholdBlock<'a> {
     tau: f32,
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2")]
-fn threshold_rows_avx2(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
-    threshold_rows(b, edges)
+/// Picks the AVX2 build of the kernel when the CPU has it. Both builds run the same scalar
+/// operations in the same order (no FMA contraction), so they give identical results.
+fn threshold_dispatch<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx2") {
+            // SAFETY: the CPU supports AVX2, checked just above.
+            unsafe { threshold_rows_avx2::<DIM>(b, edges) };
+            return;
+        }
+    }
+    threshold_rows::<DIM>(b, edges)
 }
 
-/// The register-blocked kernel: ROW_BLOCK rows of h against COL_BLOCK columns of g at a time,
-/// only for column blocks that reach past the diagonal (j > i).
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn threshold_rows_avx2<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
+    threshold_rows::<DIM>(b, edges)
+}
+
+/// The register-blocked kernel for embeddings of `DIM` values: ROW_BLOCK rows of h against
+/// COL_BLOCK columns of g at a time, only for column blocks that reach past the diagonal.
+/// Fixed sizes let the compiler keep the 4 x 16 accumulators in vector registers.
 #[inline(always)]
-fn threshold_rows(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
-    let (dim, n, cols) = (b.dim, b.n, b.cols);
+fn threshold_rows<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
+    let (n, cols) = (b.n, b.cols);
     let mut i0 = 0;
     while i0 < n {
         let rows = ROW_BLOCK.min(n - i0);
-        let mut h = [[0.0f32; 64]; ROW_BLOCK];
-        let mut long_h = Vec::new();
-        // Embedding dims up to 64 stay on the stack; larger ones (not used by any model) spill.
-        let h_rows: Vec<&[f32]> = if dim <= 64 {
-            for r in 0..rows {
-                h[r][..dim].copy_from_slice(&b.embeddings[(i0 + r) * dim..(i0 + r + 1) * dim]);
-            }
-            h.iter().map(|row| &row[..dim]).collect()
-        } else {
-            long_h.extend_from_slice(&b.embeddings[i0 * dim..(i0 + rows) * dim]);
-            long_h.resize(ROW_BLOCK * dim, 0.0);
-            long_h.chunks(dim).collect()
-        };
-        let first_col_block = (i0 + 1) / COL_BLOCK * COL_BLOCK;
-        let mut j0 = first_col_block;
+        let mut h = [[0.0f32; DIM]; ROW_BLOCK];
+        for (r, row) in h.iter_mut().enumerate().take(rows) {
+            row.copy_from_slice(&b.embeddings[(i0 + r) * DIM..(i0 + r + 1) * DIM]);
+        }
+        let mut j0 = (i0 + 1) / COL_BLOCK * COL_BLOCK;
         while j0 < cols {
             let mut acc = [[0.0f32; COL_BLOCK]; ROW_BLOCK];
-            for k in 0..dim {
+            for k in 0..DIM {
                 let g: &[f32; COL_BLOCK] = b.g_t[k * cols + j0..k * cols + j0 + COL_BLOCK]
                     .try_into()
                     .expect("block");
                 for r in 0..ROW_BLOCK {
-                    let hv = h_rows[r][k];
+                    let hv = h[r][k];
                     for c in 0..COL_BLOCK {
                         acc[r][c] += hv * g[c];
                     }
                 }
             }
-            for r in 0..rows {
+            let qj: &[f32; COL_BLOCK] = b.q[j0..j0 + COL_BLOCK].try_into().expect("block");
+            for (r, acc_row) in acc.iter().enumerate().take(rows) {
                 let i = i0 + r;
+                let qi = b.q[i];
+                // Edges are rare (a few per vertex): test the whole row of the block with
+                // vector compares and only walk it when something passed.
+                let mut any = false;
                 for c in 0..COL_BLOCK {
-                    let j = j0 + c;
-                    if j > i && j < n && b.q[i] + b.q[j] - 2.0 * acc[r][c] > b.tau {
-                        edges.push([i as u32, j as u32]);
+                    any |= qi + qj[c] - 2.0 * acc_row[c] > b.tau;
+                }
+                if any {
+                    for (c, &dot) in acc_row.iter().enumerate() {
+                        let j = j0 + c;
+                        if j > i && qi + qj[c] - 2.0 * dot > b.tau {
+                            edges.push([i as u32, j as u32]);
+                        }
                     }
                 }
             }
@@ -250,8 +263,23 @@ fn threshold_rows(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
         }
         i0 += ROW_BLOCK;
     }
-    // Rows were visited in blocks; restore the lexicographic order callers rely on.
-    edges.sort_unstable();
+}
+
+/// The same computation for any embedding size (no model uses one other than 32; kept simple).
+fn threshold_rows_any(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
+    let (dim, n, cols) = (b.dim, b.n, b.cols);
+    for i in 0..n {
+        let h = &b.embeddings[i * dim..(i + 1) * dim];
+        for j in i + 1..n {
+            let mut dot = 0.0f32;
+            for (k, &hv) in h.iter().enumerate() {
+                dot += hv * b.g_t[k * cols + j];
+            }
+            if b.q[i] + b.q[j] - 2.0 * dot > b.tau {
+                edges.push([i as u32, j as u32]);
+            }
+        }
+    }
 }
 
 /// Normalises a messy edge list: (min, max) pairs, self-loops and duplicates dropped, sorted.
@@ -311,6 +339,8 @@ fn sorted_triple(mut t: [u32; 3]) -> [u32; 3] {
     t
 }
 
+/// f32 on purpose (unlike [`crate::normals`]): the winding decision mirrors the reference's f32
+/// arithmetic so near-degenerate faces turn out the same way.
 fn unit_or_z(v: Vec3) -> Vec3 {
     let len = v.length();
     if len <= 1e-8 { Vec3::Z } else { v / len }
@@ -565,16 +595,8 @@ mod tests {
     use crate::primitives::{grid, icosphere, octahedron};
     use crate::topology::{TopologyReport, edges};
 
-    // Replaced by crate::normals::vertex_normals once that module lands.
     fn area_weighted_normals(m: &Mesh) -> Vec<Vec3> {
-        let mut n = vec![Vec3::ZERO; m.positions.len()];
-        for (f, face) in m.faces.iter().enumerate() {
-            let [a, b, c] = m.triangle(f);
-            for &v in face {
-                n[v as usize] += (b - a).cross(c - a);
-            }
-        }
-        n.into_iter().map(unit_or_z).collect()
+        crate::normals::vertex_normals(&m.positions, &m.faces)
     }
 
     fn roundtrip(m: &Mesh, opts: &ExtractOptions) -> (Mesh, ExtractReport) {

@@ -19,6 +19,7 @@
 //! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
 //! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
+//! - [`workloads`]: the inputs the extraction benchmarks time.
 
 pub mod clean;
 pub mod extract;
@@ -33,5 +34,6 @@ pub mod sample;
 pub mod tokens;
 pub mod topology;
 pub mod voxel;
+pub mod workloads;
 
 pub use mesh::{Aabb, Mesh};
