@@ -24,7 +24,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::topology::{Edge, EdgeIncidence, boundary_loops};
+use crate::topology::{Edge, EdgeIncidence, boundary_loops, sorted_face};
 
 /// The paper's edge threshold on the spacetime distance.
 pub const TAU: f32 = 0.6;
@@ -334,11 +334,6 @@ pub fn triangles_of_edges(num_vertices: usize, edges: &[Edge]) -> Vec<[u32; 3]> 
     faces
 }
 
-fn sorted_triple(mut t: [u32; 3]) -> [u32; 3] {
-    t.sort_unstable();
-    t
-}
-
 /// f32 on purpose (unlike [`crate::normals`]): the winding decision mirrors the reference's f32
 /// arithmetic so near-degenerate faces turn out the same way.
 fn unit_or_z(v: Vec3) -> Vec3 {
@@ -359,7 +354,7 @@ fn orientation_dot(tri: [u32; 3], positions: &[Vec3], normals: &[Vec3]) -> f32 {
 /// Winds the triangle `{a, b, c}` by the rule in the module doc: sorted, then flipped to
 /// (a, c, b) when its geometric normal points against its vertex normals.
 pub fn orient_face(tri: [u32; 3], positions: &[Vec3], normals: &[Vec3]) -> [u32; 3] {
-    let t = sorted_triple(tri);
+    let t = sorted_face(tri);
     if orientation_dot(t, positions, normals) < 0.0 {
         [t[0], t[2], t[1]]
     } else {
@@ -425,12 +420,12 @@ pub fn extract_mesh(
 
     // A fan triangle that is already a face (the boundary of a lone triangle is a 3-loop)
     // would only make a double-sided copy, so it is never added.
-    let mut existing: Vec<[u32; 3]> = faces.iter().map(|&f| sorted_triple(f)).collect();
+    let mut existing: Vec<[u32; 3]> = faces.iter().map(|&f| sorted_face(f)).collect();
     existing.sort_unstable();
     for lp in boundary_loops(&faces) {
         let fan: Vec<[u32; 3]> = (1..lp.len() - 1)
             .map(|k| [lp[0], lp[k], lp[k + 1]])
-            .filter(|&t| existing.binary_search(&sorted_triple(t)).is_err())
+            .filter(|&t| existing.binary_search(&sorted_face(t)).is_err())
             .collect();
         if opts.fill_holes && lp.len() <= opts.max_hole_edges && !fan.is_empty() {
             report.holes_filled += 1;
@@ -593,7 +588,7 @@ pub fn extract_from_decoded(
 mod tests {
     use super::*;
     use crate::primitives::{grid, icosphere, octahedron};
-    use crate::topology::{TopologyReport, edges};
+    use crate::topology::{TopologyReport, edges, rotate_min_first};
 
     fn area_weighted_normals(m: &Mesh) -> Vec<Vec3> {
         crate::normals::vertex_normals(&m.positions, &m.faces)
@@ -612,18 +607,7 @@ mod tests {
     }
 
     fn canonical(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
-        let mut out: Vec<[u32; 3]> = faces
-            .iter()
-            .map(|&[a, b, c]| {
-                if a <= b && a <= c {
-                    [a, b, c]
-                } else if b <= c {
-                    [b, c, a]
-                } else {
-                    [c, a, b]
-                }
-            })
-            .collect();
+        let mut out: Vec<[u32; 3]> = faces.iter().map(|&f| rotate_min_first(f)).collect();
         out.sort_unstable();
         out
     }

@@ -84,6 +84,24 @@ impl EdgeIncidence {
     }
 }
 
+/// The face's three vertices in ascending order (its identity regardless of winding).
+pub fn sorted_face(mut f: [u32; 3]) -> [u32; 3] {
+    f.sort_unstable();
+    f
+}
+
+/// The cyclic rotation of a face that starts at its smallest vertex: its identity with the
+/// winding kept (the golden files' canonical form).
+pub fn rotate_min_first([a, b, c]: [u32; 3]) -> [u32; 3] {
+    if a <= b && a <= c {
+        [a, b, c]
+    } else if b <= c {
+        [b, c, a]
+    } else {
+        [c, a, b]
+    }
+}
+
 /// True unless the face repeats a vertex.
 pub fn has_three_vertices(&[a, b, c]: &[u32; 3]) -> bool {
     a != b && b != c && a != c

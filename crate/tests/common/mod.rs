@@ -115,20 +115,12 @@ pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
         .fold(0.0, f32::max)
 }
 
-/// Faces rotated so the smallest index comes first (orientation kept), then sorted: the
-/// golden files' canonical form.
+/// Faces in the golden files' canonical form: each rotated so its smallest index comes first
+/// (orientation kept), then the list sorted.
 pub fn canonical_faces(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
     let mut out: Vec<[u32; 3]> = faces
         .iter()
-        .map(|&[a, b, c]| {
-            if a <= b && a <= c {
-                [a, b, c]
-            } else if b <= c {
-                [b, c, a]
-            } else {
-                [c, a, b]
-            }
-        })
+        .map(|&f| meshflow::topology::rotate_min_first(f))
         .collect();
     out.sort_unstable();
     out
