@@ -487,6 +487,8 @@ impl<'a> Reader<'a> {
             .ok_or_else(|| err(format!("meshes[{m}]"), "mesh does not exist".into()))?;
         let normal_m = Mat3::from_mat4(world).inverse().transpose();
         let flip = world.determinant() < 0.0;
+        // Identity: keep the stored bits exactly (no -0.0 + 0.0, no renormalising).
+        let identity = world == Mat4::IDENTITY;
         for (p, prim) in mesh.primitives.iter().enumerate() {
             let item = || format!("meshes[{m}].primitives[{p}]");
             if let Some(e) = prim
@@ -518,7 +520,11 @@ impl<'a> Reader<'a> {
                 out.positions.reserve(v.count);
                 for i in 0..v.count {
                     let local = Vec3::new(v.component(i, 0), v.component(i, 1), v.component(i, 2));
-                    let w = world.transform_point3(local);
+                    let w = if identity {
+                        local
+                    } else {
+                        world.transform_point3(local)
+                    };
                     if !w.is_finite() {
                         return Err(ReadError::NonFinite {
                             format: f,
@@ -542,7 +548,11 @@ impl<'a> Reader<'a> {
                     for i in 0..count {
                         let local =
                             Vec3::new(v.component(i, 0), v.component(i, 1), v.component(i, 2));
-                        out.normals.push((normal_m * local).normalize_or_zero());
+                        out.normals.push(if identity {
+                            local
+                        } else {
+                            (normal_m * local).normalize_or_zero()
+                        });
                     }
                 }
                 Some(_) => {}
