@@ -1,0 +1,442 @@
+//! Mesh and point-cloud readers and writers.
+//!
+//! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
+//! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT).
+//! Writers: GLB, OBJ and binary little-endian PLY.
+//!
+//! Every reader takes untrusted bytes: it never panics, checks every declared count against
+//! the bytes actually present and against [`Limits`] before allocating, and reports problems
+//! as a typed [`ReadError`] that names the format and, where it can, the line (text formats),
+//! byte offset (binary formats) or JSON item (glTF) at fault.
+//!
+//! Rules shared by all readers:
+//! - Positions must be finite ([`ReadError::NonFinite`]); a file without any vertex is
+//!   [`ReadError::Empty`]; a face index outside the vertex list is
+//!   [`ReadError::IndexOutOfRange`].
+//! - Polygons are fan-triangulated; degenerate triangles (a repeated index) are kept as they
+//!   are (cleaning is [`crate::clean`]'s job).
+//! - Normals: a normal whose length is already within 1e-5 of one is kept bit-for-bit, others
+//!   are renormalised; if any normal is zero-length or not finite, *all* normals are dropped
+//!   (the mesh then has none, and [`crate::normals`] can recompute them).
+
+mod base64;
+mod gltf;
+mod obj;
+mod ply;
+mod points;
+mod stl;
+
+use std::fmt;
+use std::path::Path;
+
+use glam::Vec3;
+
+use crate::mesh::{Mesh, MeshError};
+
+pub use base64::encode as encode_base64;
+pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, write_glb};
+pub use obj::write_obj;
+pub use ply::{MAX_HEADER_BYTES as PLY_MAX_HEADER_BYTES, write_ply};
+
+/// A mesh file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    Obj,
+    Ply,
+    Stl,
+    /// glTF 2.0 JSON (`.gltf`).
+    Gltf,
+    /// Binary glTF 2.0 (`.glb`).
+    Glb,
+    /// A plain list of points, one per line (`.xyz`, `.pts`, `.csv`, `.txt`).
+    Points,
+}
+
+impl Format {
+    /// Every format, in a stable order.
+    pub const ALL: [Format; 6] = [
+        Format::Obj,
+        Format::Ply,
+        Format::Stl,
+        Format::Gltf,
+        Format::Glb,
+        Format::Points,
+    ];
+
+    /// The format implied by a file extension (case-insensitive), if any.
+    pub fn from_path(p: &Path) -> Option<Format> {
+        let ext = p.extension()?.to_str()?.to_ascii_lowercase();
+        Some(match ext.as_str() {
+            "obj" => Format::Obj,
+            "ply" => Format::Ply,
+            "stl" => Format::Stl,
+            "gltf" => Format::Gltf,
+            "glb" => Format::Glb,
+            "xyz" | "pts" | "csv" | "txt" => Format::Points,
+            _ => return None,
+        })
+    }
+
+    /// Guesses the format from the first bytes of a file.
+    ///
+    /// Magic numbers first (`glTF`, `ply`), then a JSON object (glTF), an STL (`solid` or a
+    /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
+    /// keywords, at least one `v`), and finally a list of numbers (points).
+    pub fn sniff(bytes: &[u8]) -> Option<Format> {
+        if bytes.starts_with(b"glTF") {
+            return Some(Format::Glb);
+        }
+        if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
+            return Some(Format::Ply);
+        }
+        if stl::binary_size_matches(bytes) {
+            return Some(Format::Stl);
+        }
+        let head = &bytes[..bytes.len().min(4096)];
+        // A text prefix: cut at the last complete UTF-8 character.
+        let text = match std::str::from_utf8(head) {
+            Ok(t) => t,
+            Err(e) if e.error_len().is_none() => {
+                std::str::from_utf8(&head[..e.valid_up_to()]).unwrap_or("")
+            }
+            Err(_) => return None,
+        };
+        let text = text.trim_start_matches('\u{feff}').trim_start();
+        if text.starts_with('{') {
+            return Some(Format::Gltf);
+        }
+        if text.starts_with("solid") {
+            return Some(Format::Stl);
+        }
+        if obj::looks_like_obj(text) {
+            return Some(Format::Obj);
+        }
+        if points::looks_like_points(text) {
+            return Some(Format::Points);
+        }
+        None
+    }
+
+    /// A short human-readable name ("OBJ", "glTF", ...).
+    pub fn name(&self) -> &'static str {
+        match self {
+            Format::Obj => "OBJ",
+            Format::Ply => "PLY",
+            Format::Stl => "STL",
+            Format::Gltf => "glTF",
+            Format::Glb => "GLB",
+            Format::Points => "point list",
+        }
+    }
+}
+
+impl fmt::Display for Format {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+/// Size limits a reader enforces before allocating.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Limits {
+    /// Largest input accepted, in bytes (also bounds each external or `data:` glTF buffer).
+    pub max_bytes: u64,
+    /// Most vertices (points) in the result.
+    pub max_vertices: usize,
+    /// Most triangles in the result (after fan triangulation).
+    pub max_faces: usize,
+}
+
+impl Limits {
+    /// Default [`Limits::max_bytes`]: 512 MiB.
+    pub const DEFAULT_MAX_BYTES: u64 = 512 * 1024 * 1024;
+    /// Default [`Limits::max_vertices`]: 16 Mi (16 777 216).
+    pub const DEFAULT_MAX_VERTICES: usize = 1 << 24;
+    /// Default [`Limits::max_faces`]: 32 Mi (33 554 432).
+    pub const DEFAULT_MAX_FACES: usize = 1 << 25;
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_bytes: Self::DEFAULT_MAX_BYTES,
+            max_vertices: Self::DEFAULT_MAX_VERTICES,
+            max_faces: Self::DEFAULT_MAX_FACES,
+        }
+    }
+}
+
+/// Where in the input a problem is.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Location {
+    /// 1-based line of a text format.
+    Line(usize),
+    /// Byte offset from the start of the input.
+    Byte(u64),
+    /// An item of a glTF document, e.g. `accessors[3]`.
+    Item(String),
+    /// Nowhere in particular.
+    Unknown,
+}
+
+impl fmt::Display for Location {
+    /// Written with a leading space so messages read "OBJ line 3: ..." or "STL: ...".
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Location::Line(l) => write!(f, " line {l}"),
+            Location::Byte(b) => write!(f, " at byte {b}"),
+            Location::Item(s) => write!(f, " {s}"),
+            Location::Unknown => Ok(()),
+        }
+    }
+}
+
+/// Why a file could not be read.
+#[derive(Debug, thiserror::Error)]
+pub enum ReadError {
+    #[error("{format} data ends early at byte {offset} (at least {expected} more bytes expected)")]
+    Truncated {
+        format: Format,
+        offset: u64,
+        expected: u64,
+    },
+    #[error("{format}{location}: {message}")]
+    Malformed {
+        format: Format,
+        location: Location,
+        message: String,
+    },
+    #[error(
+        "{format}{location}: vertex index {index} is out of range (there are {count} vertices)"
+    )]
+    IndexOutOfRange {
+        format: Format,
+        location: Location,
+        index: i64,
+        count: usize,
+    },
+    #[error("{format}{location}: a coordinate is not a finite number (NaN or infinity)")]
+    NonFinite { format: Format, location: Location },
+    #[error("{format}: {what} is {value}, more than the limit of {limit}")]
+    TooLarge {
+        format: Format,
+        what: &'static str,
+        value: u64,
+        limit: u64,
+    },
+    #[error("{format} file contains no vertices")]
+    Empty { format: Format },
+    #[error("{format}: not supported: {what}")]
+    Unsupported { format: Format, what: String },
+    #[error("unrecognised file format (expected OBJ, PLY, STL, glTF, GLB or a point list)")]
+    UnknownFormat,
+    #[error("{format} file is not valid UTF-8 text (byte {offset})")]
+    InvalidUtf8 { format: Format, offset: u64 },
+    #[error("could not read the file: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// Why a mesh could not be written.
+#[derive(Debug, thiserror::Error)]
+pub enum WriteError {
+    #[error("cannot write `{extension}` files (use .glb, .obj or .ply)")]
+    UnsupportedFormat { extension: String },
+    #[error("the mesh is invalid: {0}")]
+    InvalidMesh(#[from] MeshError),
+    #[error("could not write the file: {0}")]
+    Io(#[from] std::io::Error),
+}
+
+/// Reads a mesh of a known format from memory.
+///
+/// A `.gltf` document read this way can only use `data:` URIs for its buffers; use
+/// [`read_path`] for external buffer files.
+pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh, ReadError> {
+    check_limit(
+        format,
+        "file size in bytes",
+        bytes.len() as u64,
+        limits.max_bytes,
+    )?;
+    match format {
+        Format::Obj => obj::read(bytes, limits),
+        Format::Ply => ply::read(bytes, limits),
+        Format::Stl => stl::read(bytes, limits),
+        Format::Gltf => gltf::read_gltf(bytes, limits, None),
+        Format::Glb => gltf::read_glb(bytes, limits),
+        Format::Points => points::read(bytes, limits),
+    }
+}
+
+/// Reads a mesh file; the format comes from the extension, else from the content.
+///
+/// External buffers of a `.gltf` file are resolved relative to the file's folder.
+pub fn read_path(path: &Path, limits: &Limits) -> Result<Mesh, ReadError> {
+    let by_ext = Format::from_path(path);
+    let len = std::fs::metadata(path)?.len();
+    check_limit(
+        by_ext.unwrap_or(Format::Points),
+        "file size in bytes",
+        len,
+        limits.max_bytes,
+    )
+    .map_err(|e| match (e, by_ext) {
+        (ReadError::TooLarge { value, limit, .. }, None) => ReadError::TooLarge {
+            format: Format::Points,
+            what: "file size in bytes (format not yet known)",
+            value,
+            limit,
+        },
+        (e, _) => e,
+    })?;
+    let bytes = std::fs::read(path)?;
+    let format = by_ext
+        .or_else(|| Format::sniff(&bytes))
+        .ok_or(ReadError::UnknownFormat)?;
+    check_limit(
+        format,
+        "file size in bytes",
+        bytes.len() as u64,
+        limits.max_bytes,
+    )?;
+    match format {
+        Format::Gltf => {
+            let base = path.parent().unwrap_or(Path::new("."));
+            gltf::read_gltf(&bytes, limits, Some(base))
+        }
+        _ => read_bytes(&bytes, format, limits),
+    }
+}
+
+/// Writes `mesh` in the format named by the extension of `path` (`.glb`, `.obj`, `.ply`).
+///
+/// The mesh must pass [`Mesh::validate`].
+pub fn write_path(mesh: &Mesh, path: &Path) -> Result<(), WriteError> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    if !matches!(ext.as_str(), "glb" | "obj" | "ply") {
+        return Err(WriteError::UnsupportedFormat { extension: ext });
+    }
+    mesh.validate()?;
+    let bytes = match ext.as_str() {
+        "glb" => write_glb(mesh),
+        "obj" => write_obj(mesh).into_bytes(),
+        _ => write_ply(mesh),
+    };
+    std::fs::write(path, bytes)?;
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------------
+// Helpers shared by the readers.
+
+pub(crate) fn check_limit(
+    format: Format,
+    what: &'static str,
+    value: u64,
+    limit: u64,
+) -> Result<(), ReadError> {
+    if value > limit {
+        Err(ReadError::TooLarge {
+            format,
+            what,
+            value,
+            limit,
+        })
+    } else {
+        Ok(())
+    }
+}
+
+pub(crate) fn malformed(
+    format: Format,
+    location: Location,
+    message: impl Into<String>,
+) -> ReadError {
+    ReadError::Malformed {
+        format,
+        location,
+        message: message.into(),
+    }
+}
+
+/// The byte offset where `bytes` stop being UTF-8, as an error.
+pub(crate) fn utf8(format: Format, bytes: &[u8]) -> Result<&str, ReadError> {
+    std::str::from_utf8(bytes).map_err(|e| ReadError::InvalidUtf8 {
+        format,
+        offset: e.valid_up_to() as u64,
+    })
+}
+
+/// Normalises normals as documented at the top of this module: keeps near-unit ones as they
+/// are, renormalises others, and returns none at all if one is zero-length, not finite, or
+/// if the count differs from `vertices`.
+pub(crate) fn fix_normals(mut normals: Vec<Vec3>, vertices: usize) -> Vec<Vec3> {
+    if normals.len() != vertices {
+        return Vec::new();
+    }
+    for n in &mut normals {
+        let len2 = n.length_squared();
+        if !len2.is_finite() || len2 < 1e-30 {
+            return Vec::new();
+        }
+        if (len2 - 1.0).abs() > 1e-5 {
+            let v = n.as_dvec3().normalize();
+            *n = v.as_vec3();
+            if !n.is_finite() {
+                return Vec::new();
+            }
+        }
+    }
+    normals
+}
+
+/// The final checks every reader ends with.
+pub(crate) fn finish(
+    format: Format,
+    positions: Vec<Vec3>,
+    normals: Vec<Vec3>,
+    faces: Vec<[u32; 3]>,
+) -> Result<Mesh, ReadError> {
+    if positions.is_empty() {
+        return Err(ReadError::Empty { format });
+    }
+    let normals = fix_normals(normals, positions.len());
+    Ok(Mesh {
+        positions,
+        normals,
+        faces,
+    })
+}
+
+/// Fan-triangulates a polygon given by its corner indices, pushing onto `faces`.
+pub(crate) fn push_fan(
+    format: Format,
+    corners: &[u32],
+    faces: &mut Vec<[u32; 3]>,
+    limits: &Limits,
+) -> Result<(), ReadError> {
+    if corners.len() < 3 {
+        return Ok(());
+    }
+    let added = corners.len() - 2;
+    let total = faces.len().saturating_add(added);
+    check_limit(
+        format,
+        "triangle count",
+        total as u64,
+        limits.max_faces as u64,
+    )?;
+    for i in 1..corners.len() - 1 {
+        faces.push([corners[0], corners[i], corners[i + 1]]);
+    }
+    Ok(())
+}
+
+/// The vertex limit as a `u64`, capped so that indices fit in `u32`.
+pub(crate) fn vertex_limit(limits: &Limits) -> u64 {
+    (limits.max_vertices as u64).min(u32::MAX as u64)
+}
