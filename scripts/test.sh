@@ -1,0 +1,187 @@
+#!/usr/bin/env bash
+# The project's test command: `bash scripts/test.sh` (also `npm test`, and
+# what CI runs through .ci/run).
+#
+# On a fresh Debian machine with rustup/cargo and node/npm it installs what
+# the tests need (idempotently, so repeated runs are quick), then runs, in
+# order, stopping at the first failure:
+#   cargo fmt --all --check
+#   cargo test --workspace --all-targets --no-fail-fast
+#                                          (lib, bins, integration tests, and
+#                                           benches compiled and run once)
+#   cargo test --workspace --doc           (--all-targets leaves doctests out)
+#   cargo clippy --workspace --all-targets -- -D warnings
+# Each step prints its time; the last line is a plain
+# "summary: N passed, N failed, N skipped" tally of the cargo test results.
+#
+# Builds go to ${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target} so that
+# repeated runs, and scripts/demo.sh, reuse one build.
+
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}"
+# Output is piped through tee below, which would turn cargo's colours off.
+if [[ -t 1 ]]; then
+    export CARGO_TERM_COLOR="${CARGO_TERM_COLOR:-always}"
+fi
+
+# Debian packages the tests need. Add to this list rather than installing
+# things by hand: CI machines start bare.
+APT_PACKAGES=()
+
+LOG_DIR="$(mktemp -d "${TMPDIR:-/tmp}/meshflow-test.XXXXXX")"
+trap 'rm -rf "$LOG_DIR"' EXIT
+
+STEP_NAMES=()
+STEP_TIMES=()
+STEP_STATUS=()
+
+log() { printf '[test.sh] %s\n' "$*"; }
+
+now_ms() { date +%s%3N; }
+
+fmt_secs() { printf '%d.%ds' $(($1 / 1000)) $(($1 % 1000 / 100)); }
+
+have() { command -v "$1" >/dev/null 2>&1; }
+
+# ---- installing ----------------------------------------------------------
+
+# Install the named Debian packages that are not installed yet.
+ensure_apt_packages() {
+    local missing=() pkg
+    for pkg in "$@"; do
+        dpkg-query -W -f='${Status}' "$pkg" 2>/dev/null | grep -q 'ok installed' ||
+            missing+=("$pkg")
+    done
+    ((${#missing[@]} == 0)) && return 0
+    log "installing Debian packages: ${missing[*]}"
+    local sudo=()
+    if ((EUID != 0)); then
+        have sudo || { log "need root or sudo to install ${missing[*]}"; return 1; }
+        sudo=(sudo)
+    fi
+    "${sudo[@]}" apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive "${sudo[@]}" apt-get install -y -qq "${missing[@]}"
+}
+
+ensure_system_tools() {
+    have cargo || { log "cargo not found: install Rust with rustup first"; return 1; }
+    if ! have node || ! have npm; then
+        ensure_apt_packages nodejs npm
+    fi
+    if ((${#APT_PACKAGES[@]} > 0)); then
+        ensure_apt_packages "${APT_PACKAGES[@]}"
+    fi
+}
+
+ensure_rust_components() {
+    if ! cargo fmt --version >/dev/null 2>&1; then
+        rustup component add rustfmt
+    fi
+    if ! cargo clippy --version >/dev/null 2>&1; then
+        rustup component add clippy
+    fi
+}
+
+# `npm ci` when node_modules is missing or package-lock.json changed since the
+# last install (a hash of the lock file is kept inside node_modules).
+ensure_node_modules() {
+    local stamp="node_modules/.meshflow-lock.sha256" want
+    want="$(sha256sum package-lock.json | cut -d' ' -f1)"
+    if [[ -d node_modules && -f "$stamp" && "$(cat "$stamp")" == "$want" ]]; then
+        log "node_modules up to date with package-lock.json"
+        return 0
+    fi
+    npm ci --no-audit --no-fund
+    printf '%s\n' "$want" >"$stamp"
+}
+
+install_deps() {
+    ensure_system_tools
+    ensure_rust_components
+    ensure_node_modules
+}
+
+# ---- checks ----------------------------------------------------------------
+
+check_fmt() { cargo fmt --all --check; }
+
+# Test output is shown as it comes and also kept, to tally the results.
+run_tests() { cargo test --workspace --all-targets --no-fail-fast 2>&1 | tee "$LOG_DIR/test.log"; }
+
+run_doctests() { cargo test --workspace --doc 2>&1 | tee "$LOG_DIR/doctest.log"; }
+
+check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
+
+# ---- driver ----------------------------------------------------------------
+
+# Sum the "test result: ok. 3 passed; 0 failed; 1 ignored; ..." lines.
+tally() {
+    cat "$LOG_DIR"/*.log 2>/dev/null |
+        sed 's/\x1b\[[0-9;]*m//g' |
+        awk '/^test result:/ {
+                for (i = 1; i <= NF; i++) {
+                    if ($(i+1) ~ /^passed/)  p += $i
+                    if ($(i+1) ~ /^failed/)  f += $i
+                    if ($(i+1) ~ /^ignored/) s += $i
+                }
+             }
+             END { printf "%d passed, %d failed, %d skipped\n", p, f, s }'
+}
+
+print_summary() {
+    local i
+    echo
+    log "steps:"
+    for i in "${!STEP_NAMES[@]}"; do
+        printf '[test.sh]   %-8s %-12s %s\n' "${STEP_STATUS[$i]}" "${STEP_NAMES[$i]}" "${STEP_TIMES[$i]}"
+    done
+    echo "summary: $(tally)"
+}
+
+# run_step NAME FUNCTION: run it with errexit in force (a subshell, so that a
+# failing command inside the function stops it), time it, and stop the whole
+# run on failure.
+run_step() {
+    local name="$1" start rc elapsed
+    shift
+    echo
+    log "==> $name"
+    start="$(now_ms)"
+    set +e
+    (
+        set -e
+        "$@"
+    )
+    rc=$?
+    set -e
+    elapsed="$(fmt_secs $(($(now_ms) - start)))"
+    STEP_NAMES+=("$name")
+    STEP_TIMES+=("$elapsed")
+    if ((rc == 0)); then
+        STEP_STATUS+=("ok")
+        log "<== $name: ok in $elapsed"
+    else
+        STEP_STATUS+=("FAILED")
+        log "<== $name: FAILED (exit $rc) after $elapsed"
+        print_summary
+        log "FAILED at step: $name"
+        exit "$rc"
+    fi
+}
+
+main() {
+    log "repo: $ROOT"
+    log "CARGO_TARGET_DIR=$CARGO_TARGET_DIR"
+    run_step install install_deps
+    run_step fmt check_fmt
+    run_step test run_tests
+    run_step doctest run_doctests
+    run_step clippy check_clippy
+    print_summary
+}
+
+main "$@"
