@@ -281,6 +281,11 @@ fn normal_consistency(m: &Matching, na: &[Vec3], nb: &[Vec3]) -> f64 {
 /// subsampled to `opts.samples` by [`crate::sample::subsample_indices`]; its normals are its per-vertex normals
 /// if it has them, otherwise normal consistency is `None`.
 ///
+/// Noise floor: two independent samples of the same surface are not at distance 0. For `n`
+/// points uniform on an area `A` the mean nearest distance is about `sqrt(A / n) / 2`, so a
+/// perfect prediction scores CD about `sqrt(A / n)`: 2.5 (x100) for a sphere of diameter 1
+/// (A = pi) at 5,000 samples, and about 4.5 (x100) HD. Compare methods on the same protocol only.
+///
 /// Errors when either mesh is invalid or has no vertices, when a surface has zero area, or when
 /// `opts.samples` is 0.
 pub fn compare_meshes(
