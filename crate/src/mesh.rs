@@ -91,9 +91,10 @@ impl Mesh {
 
     /// Total surface area.
     pub fn area(&self) -> f64 {
+        // Folded from +0.0: an empty f64 sum is -0.0, which prints as "-0".
         (0..self.faces.len())
             .map(|f| triangle_area(self.triangle(f)) as f64)
-            .sum()
+            .fold(0.0, |a, b| a + b)
     }
 }
 
@@ -169,5 +170,6 @@ mod tests {
         assert_eq!(b.max_extent(), 2.0);
         assert!((m.area() - 1.0).abs() < 1e-6);
         assert_eq!(Aabb::of(&[]), None);
+        assert!(Mesh::from_points(vec![Vec3::ONE]).area().is_sign_positive());
     }
 }

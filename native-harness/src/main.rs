@@ -1,1 +1,144 @@
-fn main() {}
+//! `meshflow`: the command-line door to the MeshFlow crate.
+//!
+//! Every command reads any supported mesh or point-cloud format and reports errors as one
+//! readable line with a non-zero exit status (2 for bad input, 1 for anything else).
+
+mod bench;
+mod commands;
+mod progress;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "meshflow",
+    version,
+    about = "Artist-like meshes from point clouds (MeshFlow)"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Counts and the topology report of a mesh or point cloud.
+    Inspect {
+        file: PathBuf,
+        /// Print JSON instead of text.
+        #[arg(long)]
+        json: bool,
+    },
+    /// Samples points uniformly by area from a mesh's surface and writes them as a point cloud.
+    Sample {
+        mesh: PathBuf,
+        /// Number of points.
+        #[arg(short = 'n', long, default_value_t = 8192)]
+        count: usize,
+        /// Output file (.ply, .obj or .glb).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Also write each point's face normal.
+        #[arg(long)]
+        normals: bool,
+    },
+    /// Converts between formats (read: OBJ PLY STL glTF GLB XYZ/PTS/CSV; write: GLB OBJ PLY).
+    Convert {
+        input: PathBuf,
+        output: PathBuf,
+        /// Weld vertices and drop degenerate, duplicate and back-to-back faces first.
+        #[arg(long)]
+        clean: bool,
+    },
+    /// Chamfer and Hausdorff distance (x100, DESIGN.md section 3) and topology of PRED against GT.
+    Compare {
+        pred: PathBuf,
+        gt: PathBuf,
+        /// Points sampled on each surface.
+        #[arg(long, default_value_t = 5000)]
+        samples: usize,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Round-trips a mesh through its ground-truth adjacency (tokens -> edges -> faces with
+    /// Algorithm 1) and reports what was lost.
+    Extract {
+        mesh: PathBuf,
+        /// Write the extracted mesh here.
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+        /// Fill boundary loops of at most this many edges (0 = no hole repair).
+        #[arg(long, default_value_t = 4)]
+        max_hole_edges: usize,
+        /// Drop faces that would make an edge non-manifold.
+        #[arg(long)]
+        drop_non_manifold: bool,
+        #[arg(long)]
+        json: bool,
+    },
+    /// Benchmarks that write JSON.
+    Bench {
+        #[command(subcommand)]
+        which: bench::BenchCommand,
+    },
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Inspect { file, json } => commands::inspect(&file, json),
+        Command::Sample {
+            mesh,
+            count,
+            output,
+            seed,
+            normals,
+        } => commands::sample(&mesh, count, &output, seed, normals),
+        Command::Convert {
+            input,
+            output,
+            clean,
+        } => commands::convert(&input, &output, clean),
+        Command::Compare {
+            pred,
+            gt,
+            samples,
+            seed,
+            json,
+        } => commands::compare(&pred, &gt, samples, seed, json),
+        Command::Extract {
+            mesh,
+            output,
+            max_hole_edges,
+            drop_non_manifold,
+            json,
+        } => commands::extract(
+            &mesh,
+            output.as_deref(),
+            max_hole_edges,
+            drop_non_manifold,
+            json,
+        ),
+        Command::Bench { which } => bench::run(which),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            let bad_input = err.chain().any(|e| {
+                e.is::<meshflow::io::ReadError>()
+                    || e.is::<meshflow::sample::SampleError>()
+                    || e.is::<meshflow::metrics::MetricsError>()
+                    || e.is::<meshflow::tokens::TokenError>()
+            });
+            ExitCode::from(if bad_input { 2 } else { 1 })
+        }
+    }
+}

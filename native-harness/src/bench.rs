@@ -1,0 +1,170 @@
+//! `meshflow bench extract`: extraction and threshold timings as JSON, beside the reference
+//! implementation's figures (DESIGN.md section 4). One thread; median of repeated runs.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result};
+use clap::Subcommand;
+use meshflow::extract::{ExtractOptions, FaceSupport, TAU, extract_mesh, spacetime_edges};
+use meshflow::workloads::{icosphere_edges, random_embeddings};
+use serde::Serialize;
+
+#[derive(Subcommand)]
+pub enum BenchCommand {
+    /// Extraction from ground-truth edges on icospheres (162..10,242 vertices) and the spacetime
+    /// threshold on N x 32 embeddings (N = 512..8,192).
+    Extract {
+        /// Where to write the JSON.
+        #[arg(short, long, default_value = "bench/extract.json")]
+        output: PathBuf,
+        /// Minimum time spent per case, in seconds (more runs, steadier medians).
+        #[arg(long, default_value_t = 1.0)]
+        seconds: f64,
+    },
+}
+
+/// The reference implementation's times on one CPU thread (DESIGN.md section 4), in ms.
+const REFERENCE_EXTRACT_MS: [(usize, f64); 4] =
+    [(162, 47.0), (642, 185.0), (2562, 772.0), (10242, 3300.0)];
+const REFERENCE_THRESHOLD_MS: [(usize, f64); 4] =
+    [(1024, 22.0), (2048, 106.0), (4096, 560.0), (8192, 2700.0)];
+
+#[derive(Serialize)]
+struct Timing {
+    median_ms: f64,
+    min_ms: f64,
+    runs: usize,
+}
+
+/// Runs `work` once to warm up, then repeatedly for at least `budget` (and at least 5 times).
+fn time(budget: Duration, mut work: impl FnMut()) -> Timing {
+    work();
+    let mut samples = Vec::new();
+    let start = Instant::now();
+    while samples.len() < 5 || start.elapsed() < budget {
+        let t = Instant::now();
+        work();
+        samples.push(t.elapsed().as_secs_f64() * 1e3);
+    }
+    samples.sort_by(f64::total_cmp);
+    Timing {
+        median_ms: samples[samples.len() / 2],
+        min_ms: samples[0],
+        runs: samples.len(),
+    }
+}
+
+#[derive(Serialize)]
+struct Case {
+    size: usize,
+    /// Edges in (threshold) or faces out (extraction).
+    output_count: usize,
+    #[serde(flatten)]
+    timing: Timing,
+    reference_ms: Option<f64>,
+    speedup: Option<f64>,
+}
+
+#[derive(Serialize)]
+struct Report {
+    method: &'static str,
+    cpu: String,
+    avx2: bool,
+    threads: usize,
+    extraction_from_edges: Vec<Case>,
+    spacetime_threshold_dim32: Vec<Case>,
+}
+
+fn case(size: usize, output_count: usize, timing: Timing, reference: &[(usize, f64)]) -> Case {
+    let reference_ms = reference.iter().find(|r| r.0 == size).map(|r| r.1);
+    let speedup = reference_ms.map(|r| r / timing.median_ms);
+    Case {
+        size,
+        output_count,
+        timing,
+        reference_ms,
+        speedup,
+    }
+}
+
+fn cpu_name() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|s| {
+            s.lines()
+                .find(|l| l.starts_with("model name"))
+                .map(|l| l.split(':').nth(1).unwrap_or("").trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown".into())
+}
+
+pub fn run(which: BenchCommand) -> Result<()> {
+    let BenchCommand::Extract { output, seconds } = which;
+    let budget = Duration::from_secs_f64(seconds);
+    let mut report = Report {
+        method: "wall-clock median over >= 5 runs and >= `seconds` per case after one warm-up run; \
+                 single thread; extraction = extract_mesh on an icosphere's ground-truth edges \
+                 (faces, winding, hole check, compaction); threshold = spacetime_edges on \
+                 N(0, 0.12^2) embeddings, tau = 0.6",
+        cpu: cpu_name(),
+        avx2: cfg!(target_arch = "x86_64") && {
+            #[cfg(target_arch = "x86_64")]
+            {
+                std::is_x86_feature_detected!("avx2")
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            {
+                false
+            }
+        },
+        threads: 1,
+        extraction_from_edges: Vec::new(),
+        spacetime_threshold_dim32: Vec::new(),
+    };
+    let opts = ExtractOptions::default();
+    for subdivisions in 2..=5 {
+        let w = icosphere_edges(subdivisions);
+        let run = || {
+            extract_mesh(
+                &w.positions,
+                &w.normals,
+                &w.edges,
+                FaceSupport::Geometric,
+                &opts,
+            )
+            .expect("valid")
+        };
+        let faces = run().0.faces.len();
+        anyhow::ensure!(faces == w.faces, "extraction lost faces of the icosphere");
+        let t = time(budget, || {
+            std::hint::black_box(run());
+        });
+        eprintln!(
+            "extract {:>6} vertices: {:8.3} ms",
+            w.positions.len(),
+            t.median_ms
+        );
+        report
+            .extraction_from_edges
+            .push(case(w.positions.len(), faces, t, &REFERENCE_EXTRACT_MS));
+    }
+    for n in [512, 1024, 2048, 4096, 8192] {
+        let emb = random_embeddings(n, 32, 1);
+        let count = spacetime_edges(&emb, 32, TAU)?.len();
+        let t = time(budget, || {
+            std::hint::black_box(spacetime_edges(&emb, 32, TAU).expect("valid"));
+        });
+        eprintln!("threshold N={n:>5}: {:8.3} ms ({count} edges)", t.median_ms);
+        report
+            .spacetime_threshold_dim32
+            .push(case(n, count, t, &REFERENCE_THRESHOLD_MS));
+    }
+    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    }
+    std::fs::write(&output, serde_json::to_string_pretty(&report)? + "\n")
+        .with_context(|| format!("cannot write {}", output.display()))?;
+    println!("wrote {}", output.display());
+    Ok(())
+}
