@@ -3,7 +3,7 @@
 //! Run: `cargo bench -p meshflow --bench extract`. Single-threaded by construction.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use meshflow::extract::{ExtractOptions, FaceSupport, TAU, extract_mesh, spacetime_edges};
+use meshflow::extract::{TAU, spacetime_edges};
 use meshflow::workloads::{icosphere_edges, random_embeddings};
 
 fn extraction(c: &mut Criterion) {

@@ -37,6 +37,7 @@ use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::disjoint_sets::DisjointSets;
 
 /// Tunables of [`clean`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -80,23 +81,6 @@ impl CleanReport {
     }
 }
 
-fn find(parent: &mut [u32], mut v: u32) -> u32 {
-    while parent[v as usize] != v {
-        let grand = parent[parent[v as usize] as usize];
-        parent[v as usize] = grand;
-        v = grand;
-    }
-    v
-}
-
-/// Union keeping the smaller index as root, so every class's root is its first vertex.
-fn union(parent: &mut [u32], a: u32, b: u32) {
-    let (ra, rb) = (find(parent, a), find(parent, b));
-    if ra != rb {
-        parent[ra.max(rb) as usize] = ra.min(rb);
-    }
-}
-
 fn exact_key(p: Vec3) -> [u32; 3] {
     // `+ 0.0` turns -0.0 into +0.0 so both hash alike.
     (p + Vec3::ZERO).to_array().map(f32::to_bits)
@@ -107,14 +91,14 @@ fn exact_key(p: Vec3) -> [u32; 3] {
 /// numbered in the order of their first (lowest-indexed) vertex.
 pub fn weld_map(positions: &[Vec3], distance: f32) -> (Vec<u32>, usize) {
     let n = positions.len();
-    let mut parent: Vec<u32> = (0..n as u32).collect();
+    let mut sets = DisjointSets::new(n);
     // Exact duplicates first (typical for STL-like per-face vertices): cheap, and it keeps the
     // spatial pass from seeing crowded cells.
     let mut first_at: HashMap<[u32; 3], u32> = HashMap::with_capacity(n);
     let mut unique: Vec<u32> = Vec::with_capacity(n);
     for (i, &p) in positions.iter().enumerate() {
         match first_at.entry(exact_key(p)) {
-            Entry::Occupied(e) => parent[i] = *e.get(),
+            Entry::Occupied(e) => sets.union(i as u32, *e.get()),
             Entry::Vacant(e) => {
                 e.insert(i as u32);
                 unique.push(i as u32);
@@ -139,7 +123,7 @@ pub fn weld_map(positions: &[Vec3], distance: f32) -> (Vec<u32>, usize) {
                         };
                         for &j in list {
                             if (positions[j as usize].as_dvec3() - p).length_squared() <= tol2 {
-                                union(&mut parent, i, j);
+                                sets.union(i, j);
                             }
                         }
                     }
@@ -148,18 +132,8 @@ pub fn weld_map(positions: &[Vec3], distance: f32) -> (Vec<u32>, usize) {
             cells.entry([kx, ky, kz]).or_default().push(i);
         }
     }
-    let mut class = vec![u32::MAX; n];
-    let mut count = 0u32;
-    for i in 0..n {
-        let r = find(&mut parent, i as u32) as usize;
-        if class[r] == u32::MAX {
-            // Roots are the smallest index of their class, so they are met first.
-            class[r] = count;
-            count += 1;
-        }
-        class[i] = class[r];
-    }
-    (class, count as usize)
+    // Roots are the smallest index of their class, so classes are numbered by first vertex.
+    sets.labels(|_| true)
 }
 
 /// Welds vertices within the absolute `distance` (see the module doc) and remaps the faces

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::disjoint_sets::DisjointSets;
 
 /// An undirected edge as a sorted pair `[i, j]` with `i < j`.
 pub type Edge = [u32; 2];
@@ -213,40 +214,16 @@ pub fn boundary_loops(faces: &[[u32; 3]]) -> Vec<Vec<u32>> {
 /// Connected components of the faces (two faces are connected when they share a vertex).
 /// Returns, per vertex, its component id or `u32::MAX` when no face uses it, and the count.
 pub fn components(num_vertices: usize, faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
-    let mut parent: Vec<u32> = (0..num_vertices as u32).collect();
-    fn find(parent: &mut [u32], mut v: u32) -> u32 {
-        while parent[v as usize] != v {
-            parent[v as usize] = parent[parent[v as usize] as usize];
-            v = parent[v as usize];
-        }
-        v
-    }
+    let mut sets = DisjointSets::new(num_vertices);
     let mut used = vec![false; num_vertices];
     for f in faces {
         for &v in f {
             used[v as usize] = true;
         }
-        for k in 1..3 {
-            let (a, b) = (find(&mut parent, f[0]), find(&mut parent, f[k]));
-            if a != b {
-                parent[a.max(b) as usize] = a.min(b);
-            }
-        }
+        sets.union(f[0], f[1]);
+        sets.union(f[0], f[2]);
     }
-    let mut label = vec![u32::MAX; num_vertices];
-    let mut root_label = vec![u32::MAX; num_vertices];
-    let mut count = 0;
-    for v in 0..num_vertices {
-        if used[v] {
-            let r = find(&mut parent, v as u32) as usize;
-            if root_label[r] == u32::MAX {
-                root_label[r] = count;
-                count += 1;
-            }
-            label[v] = root_label[r];
-        }
-    }
-    (label, count as usize)
+    sets.labels(|v| used[v])
 }
 
 /// True when the triangle has a repeated vertex or (numerically) no area. `scale` is the mesh's

@@ -3,6 +3,8 @@
 
 use glam::Vec3;
 
+use crate::Mesh;
+use crate::extract::{ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
 use crate::normals::vertex_normals;
 use crate::primitives::icosphere;
 use crate::rng::Rng;
@@ -15,6 +17,20 @@ pub struct GroundTruthEdges {
     pub normals: Vec<Vec3>,
     pub edges: Vec<Edge>,
     pub faces: usize,
+}
+
+impl GroundTruthEdges {
+    /// Algorithm 1 with default options on these edges (the timed work).
+    pub fn extract(&self) -> (Mesh, ExtractReport) {
+        extract_mesh(
+            &self.positions,
+            &self.normals,
+            &self.edges,
+            FaceSupport::Geometric,
+            &ExtractOptions::default(),
+        )
+        .expect("a valid icosphere")
+    }
 }
 
 /// The icosphere with `subdivisions` (162, 642, 2562, 10242 vertices for 2..=5).

@@ -6,7 +6,7 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Subcommand;
-use meshflow::extract::{ExtractOptions, FaceSupport, TAU, extract_mesh, spacetime_edges};
+use meshflow::extract::{TAU, spacetime_edges};
 use meshflow::workloads::{icosphere_edges, random_embeddings};
 use serde::Serialize;
 
@@ -88,6 +88,13 @@ fn case(size: usize, output_count: usize, timing: Timing, reference: &[(usize, f
     }
 }
 
+fn has_avx2() -> bool {
+    #[cfg(target_arch = "x86_64")]
+    return std::is_x86_feature_detected!("avx2");
+    #[cfg(not(target_arch = "x86_64"))]
+    false
+}
+
 fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -108,37 +115,17 @@ pub fn run(which: BenchCommand) -> Result<()> {
                  (faces, winding, hole check, compaction); threshold = spacetime_edges on \
                  N(0, 0.12^2) embeddings, tau = 0.6",
         cpu: cpu_name(),
-        avx2: cfg!(target_arch = "x86_64") && {
-            #[cfg(target_arch = "x86_64")]
-            {
-                std::is_x86_feature_detected!("avx2")
-            }
-            #[cfg(not(target_arch = "x86_64"))]
-            {
-                false
-            }
-        },
+        avx2: has_avx2(),
         threads: 1,
         extraction_from_edges: Vec::new(),
         spacetime_threshold_dim32: Vec::new(),
     };
-    let opts = ExtractOptions::default();
     for subdivisions in 2..=5 {
         let w = icosphere_edges(subdivisions);
-        let run = || {
-            extract_mesh(
-                &w.positions,
-                &w.normals,
-                &w.edges,
-                FaceSupport::Geometric,
-                &opts,
-            )
-            .expect("valid")
-        };
-        let faces = run().0.faces.len();
+        let faces = w.extract().0.faces.len();
         anyhow::ensure!(faces == w.faces, "extraction lost faces of the icosphere");
         let t = time(budget, || {
-            std::hint::black_box(run());
+            std::hint::black_box(w.extract());
         });
         eprintln!(
             "extract {:>6} vertices: {:8.3} ms",
