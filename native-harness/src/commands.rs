@@ -14,6 +14,7 @@ use meshflow::topology::{TopologyReport, adjacency, edges, rotate_min_first, sor
 use meshflow::{Mesh, mesh::Aabb};
 use serde::Serialize;
 
+use crate::BadInput;
 use crate::progress::step;
 
 fn read(path: &Path) -> Result<Mesh> {
@@ -197,13 +198,17 @@ pub fn extract(
     json: bool,
 ) -> Result<()> {
     let mesh = read(mesh_path)?;
-    anyhow::ensure!(
-        !mesh.is_point_cloud(),
-        "{} has no faces: nothing to round-trip",
-        mesh_path.display()
-    );
+    if mesh.is_point_cloud() {
+        let msg = format!(
+            "{} is a point cloud: extract needs a mesh with faces",
+            mesh_path.display()
+        );
+        return Err(BadInput(msg).into());
+    }
     let (cleaned, clean_report) = clean(&mesh, &CleanOptions::default());
-    let aabb = cleaned.aabb().context("the mesh is empty after cleaning")?;
+    let aabb = cleaned
+        .aabb()
+        .ok_or_else(|| BadInput(format!("{} is empty after cleaning", mesh_path.display())))?;
     let model_frame = Normalization::to_model_frame(aabb).apply_mesh(&cleaned);
     // Every vertex becomes a token; N is the vertex count rounded up to the merge ratio (4).
     let cfg = TokenConfig {

@@ -90,6 +90,19 @@ enum Command {
     },
 }
 
+/// Input the command cannot work with, beyond what the library's typed errors cover
+/// (e.g. a point cloud where a mesh is needed). Exits with status 2 like them.
+#[derive(Debug)]
+pub struct BadInput(pub String);
+
+impl std::fmt::Display for BadInput {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.0)
+    }
+}
+
+impl std::error::Error for BadInput {}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
@@ -133,7 +146,8 @@ fn main() -> ExitCode {
         Err(err) => {
             eprintln!("error: {err:#}");
             let bad_input = err.chain().any(|e| {
-                e.is::<meshflow::io::ReadError>()
+                e.is::<BadInput>()
+                    || e.is::<meshflow::io::ReadError>()
                     || e.is::<meshflow::sample::SampleError>()
                     || e.is::<meshflow::metrics::MetricsError>()
                     || e.is::<meshflow::tokens::TokenError>()

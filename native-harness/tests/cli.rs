@@ -1,0 +1,191 @@
+//! The `meshflow` binary on the bundled real meshes, as a user runs it.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures")
+        .join(name)
+}
+
+fn meshflow(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_meshflow"))
+        .args(args)
+        .output()
+        .expect("the binary runs")
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("JSON on stdout")
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meshflow-cli-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn inspect_reports_every_fixture() {
+    for name in [
+        "meshes/stone_lantern.obj",
+        "meshes/bread.obj",
+        "meshes/garden_lantern.obj",
+        "meshes/deck_chair.obj",
+        "meshes/finger_lower_link.stl",
+        "meshes/solo_lower_leg.obj",
+        "meshes/humanoid_box_ascii.stl",
+        "points/stone_lantern_2048.ply",
+    ] {
+        let report = json(&meshflow(&[
+            "inspect",
+            fixture(name).to_str().unwrap(),
+            "--json",
+        ]));
+        assert!(report["vertices"].as_u64().unwrap() > 0, "{name}");
+        let t = &report["topology"];
+        assert_eq!(t["faces"], report["faces"], "{name}");
+        if name.starts_with("points/") {
+            assert_eq!(report["point_cloud"], true);
+            assert_eq!(report["vertices"], 2048);
+        }
+    }
+    // Counts recorded in tests/fixtures/meshes/SOURCES.md.
+    let lantern = json(&meshflow(&[
+        "inspect",
+        fixture("meshes/stone_lantern.obj").to_str().unwrap(),
+        "--json",
+    ]));
+    assert_eq!(
+        (lantern["vertices"].as_u64(), lantern["faces"].as_u64()),
+        (Some(356), Some(736))
+    );
+    assert_eq!(lantern["topology"]["boundary_edges"], 0);
+}
+
+#[test]
+fn extract_round_trip_keeps_every_face_of_clean_meshes() {
+    for name in [
+        "meshes/stone_lantern.obj",
+        "meshes/finger_lower_link.stl",
+        "meshes/humanoid_box_ascii.stl",
+    ] {
+        let r = json(&meshflow(&[
+            "extract",
+            fixture(name).to_str().unwrap(),
+            "--json",
+        ]));
+        assert_eq!(r["lost_faces"], 0, "{name}: {r}");
+        assert_eq!(r["flipped_faces"], 0, "{name}: {r}");
+    }
+    // The open, multi-part deck chair keeps its faces too; its boundary is what it is.
+    let dir = temp_dir("extract");
+    let out = dir.join("chair.glb");
+    let r = json(&meshflow(&[
+        "extract",
+        fixture("meshes/deck_chair.obj").to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--max-hole-edges",
+        "0",
+        "--json",
+    ]));
+    assert_eq!(r["lost_faces"], 0, "{r}");
+    assert_eq!(r["extract"]["hole_faces"], 0);
+    assert!(std::fs::metadata(&out).unwrap().len() > 0);
+}
+
+#[test]
+fn sample_convert_compare_pipeline() {
+    let dir = temp_dir("pipeline");
+    let mesh = fixture("meshes/bread.obj");
+    let points = dir.join("points.ply");
+    let out = meshflow(&[
+        "sample",
+        mesh.to_str().unwrap(),
+        "-n",
+        "1000",
+        "-o",
+        points.to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let cloud = json(&meshflow(&["inspect", points.to_str().unwrap(), "--json"]));
+    assert_eq!(
+        (cloud["vertices"].as_u64(), cloud["point_cloud"].as_bool()),
+        (Some(1000), Some(true))
+    );
+
+    let glb = dir.join("bread.glb");
+    assert!(
+        meshflow(&["convert", mesh.to_str().unwrap(), glb.to_str().unwrap()])
+            .status
+            .success()
+    );
+    let same = json(&meshflow(&[
+        "compare",
+        glb.to_str().unwrap(),
+        mesh.to_str().unwrap(),
+        "--json",
+    ]));
+    let cube = fixture("meshes/humanoid_box_ascii.stl");
+    let other = json(&meshflow(&[
+        "compare",
+        cube.to_str().unwrap(),
+        mesh.to_str().unwrap(),
+        "--json",
+    ]));
+    let cd = |v: &serde_json::Value| v["chamfer_x100"].as_f64().unwrap();
+    // The same surface scores only sampling noise; a cube against the bread scores far worse.
+    assert!(
+        cd(&same) < 2.0 && cd(&other) > 3.0 * cd(&same),
+        "{} vs {}",
+        cd(&same),
+        cd(&other)
+    );
+    assert_eq!(same["pred_topology"], same["gt_topology"]);
+}
+
+#[test]
+fn bad_input_is_one_line_and_status_2() {
+    let dir = temp_dir("bad");
+    let cases: [(&str, &[u8]); 4] = [
+        ("truncated.stl", &[0u8; 90]),
+        ("nan.obj", b"v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"),
+        ("index.obj", b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n"),
+        ("empty.ply", b"ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\nproperty float y\nproperty float z\nend_header\n"),
+    ];
+    for (name, bytes) in cases {
+        let path = dir.join(name);
+        std::fs::write(&path, bytes).unwrap();
+        for cmd in ["inspect", "extract"] {
+            let out = meshflow(&[cmd, path.to_str().unwrap()]);
+            let stderr = String::from_utf8_lossy(&out.stderr);
+            assert_eq!(out.status.code(), Some(2), "{cmd} {name}: {stderr}");
+            assert!(
+                stderr.starts_with("error: ") && stderr.trim_end().lines().count() == 1,
+                "{stderr}"
+            );
+            assert!(!stderr.contains("panicked"), "{stderr}");
+        }
+    }
+    let missing = meshflow(&["inspect", dir.join("does-not-exist.obj").to_str().unwrap()]);
+    assert_eq!(missing.status.code(), Some(2));
+    let points = fixture("points/stone_lantern_2048.ply");
+    let out = meshflow(&[
+        "sample",
+        points.to_str().unwrap(),
+        "-o",
+        dir.join("x.ply").to_str().unwrap(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "sampling a point cloud is bad input"
+    );
+}
