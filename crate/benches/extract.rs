@@ -10,23 +10,8 @@ fn extraction(c: &mut Criterion) {
     let mut group = c.benchmark_group("extract_from_edges");
     for subdivisions in 2..=5 {
         let w = icosphere_edges(subdivisions);
-        let opts = ExtractOptions::default();
-        group.bench_with_input(
-            BenchmarkId::from_parameter(w.positions.len()),
-            &w,
-            |b, w| {
-                b.iter(|| {
-                    extract_mesh(
-                        &w.positions,
-                        &w.normals,
-                        &w.edges,
-                        FaceSupport::Geometric,
-                        &opts,
-                    )
-                    .unwrap()
-                })
-            },
-        );
+        let id = BenchmarkId::from_parameter(w.positions.len());
+        group.bench_with_input(id, &w, |b, w| b.iter(|| w.extract()));
     }
     group.finish();
 }
