@@ -428,18 +428,24 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                 })
                 .sum(),
         };
-        min_total = el
-            .count
-            .checked_mul(per)
-            .and_then(|b| b.checked_add(min_total))
-            .ok_or_else(|| element_too_big(el, data.len()))?;
-        if min_total > data.len() as u64 {
-            return Err(element_too_big(el, data.len()));
-        }
         match el.name.as_str() {
             "vertex" => check_limit(F, "vertex count", el.count, vertex_limit(limits))?,
             "face" => check_limit(F, "face count", el.count, limits.max_faces as u64)?,
             _ => {}
+        }
+        let need = el
+            .count
+            .checked_mul(per)
+            .and_then(|b| b.checked_add(min_total));
+        match need {
+            Some(n) if n <= data.len() as u64 => min_total = n,
+            _ => {
+                return Err(ReadError::Truncated {
+                    format: F,
+                    offset: bytes.len() as u64,
+                    expected: need.map_or(u64::MAX, |n| n - data.len() as u64),
+                });
+            }
         }
     }
 
@@ -583,17 +589,6 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
     finish(F, positions, normals, faces)
 }
 
-fn element_too_big(el: &Element, left: usize) -> ReadError {
-    malformed(
-        F,
-        Location::Unknown,
-        format!(
-            "element `{}` declares {} items, more than the {left} data bytes can hold",
-            el.name, el.count
-        ),
-    )
-}
-
 /// Binary little-endian PLY: `vertex` with `float x y z` (and `nx ny nz` when the mesh has
 /// normals), `face` with `list uchar int vertex_indices` (`uint` if an index exceeds
 /// `i32::MAX`). A point cloud has no `face` element.
@@ -655,7 +650,7 @@ mod tests {
         let s = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
         assert!(matches!(
             read(s.as_bytes(), &Limits::default()),
-            Err(ReadError::TooLarge { .. } | ReadError::Malformed { .. })
+            Err(ReadError::TooLarge { .. })
         ));
     }
 }
