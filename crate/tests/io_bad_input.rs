@@ -107,7 +107,7 @@ fn ply_bad_inputs() {
         "binary truncated mid-face", { let mut b = ply_tri_bin(2); b.truncate(b.len() - 3); b } => ReadError::Truncated { .. },
         "list longer than the file", [ply_header("binary_little_endian", &format!("{}element junk 1\nproperty list uint float junk\n", vtx("1"))).as_bytes(), &[0u8; 12], &[0xff, 0xff, 0xff, 0x7f]].concat() => ReadError::Truncated { .. },
         "nan coordinate", nan => ReadError::NonFinite { location: Location::Byte(_), .. },
-        "inf ascii", ply_header("ascii", &vtx("1")) + "0 inf 0\n" => ReadError::NonFinite { location: Location::Line(8), .. },
+        "inf ascii", ply_header("ascii", &vtx("2")) + "0 0 0\n0 inf 0\n" => ReadError::NonFinite { location: Location::Line(9), .. },
         "index out of range", ply_tri_bin(3) => ReadError::IndexOutOfRange { index: 3, count: 3, .. },
         "negative index", ply_tri_bin(-1) => ReadError::IndexOutOfRange { index: -1, .. },
         "face with 2 vertices", ply_header("ascii", &format!("{}element face 1\nproperty list uchar int vertex_indices\n", vtx("3"))) + "0 0 0\n1 0 0\n0 1 0\n2 0 1\n" => ReadError::Malformed { .. },

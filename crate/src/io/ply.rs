@@ -508,9 +508,14 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                         }
                     }
                     if !p.iter().all(|c| c.is_finite()) {
+                        // Binary: where the vertex starts; ascii: the line just read.
+                        let location = match loc {
+                            Location::Byte(_) => loc,
+                            _ => body.location(),
+                        };
                         return Err(ReadError::NonFinite {
                             format: F,
-                            location: loc,
+                            location,
                         });
                     }
                     positions.push(Vec3::from_array(p));
