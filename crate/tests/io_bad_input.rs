@@ -52,8 +52,8 @@ fn obj_bad_inputs() {
         "negative past the start", format!("{TRI}f -1 -2 -4\n") => ReadError::IndexOutOfRange { index: -4, .. },
         "zero index", format!("{TRI}f 0 1 2\n") => ReadError::IndexOutOfRange { index: 0, .. },
         "forward reference", format!("f 1 2 3\n{TRI}") => ReadError::IndexOutOfRange { count: 0, .. },
-        "normal index out of range", format!("{TRI}vn 0 0 1\nf 1//1 2//2 3//1\n") => ReadError::IndexOutOfRange { index: 2, count: 1, .. },
-        "texcoord index out of range", format!("{TRI}f 1/1 2/1 3/1\n") => ReadError::IndexOutOfRange { .. },
+        "normal index out of range", format!("{TRI}vn 0 0 1\nf 1//1 2//2 3//1\n") => ReadError::IndexOutOfRange { what: "normals", index: 2, count: 1, .. },
+        "texcoord index out of range", format!("{TRI}f 1/1 2/1 3/1\n") => ReadError::IndexOutOfRange { what: "texture coordinates", .. },
         "two corners", format!("{TRI}f 1 2\n") => ReadError::Malformed { .. },
         "too many slashes", format!("{TRI}f 1/1/1/1 2 3\n") => ReadError::Malformed { .. },
         "huge index", format!("{TRI}f 1 2 99999999999999999999999\n") => ReadError::Malformed { .. },
@@ -183,11 +183,10 @@ fn gltf_bad_inputs() {
         .map(|i| format!("{{\"children\":[{0},{0}]}},", i + 1))
         .collect::<String>()
         + "{\"mesh\":0}";
-    let nan_buf = format!("base64,{}", encode_base64(&[0, 0, 0xc0, 0x7f]));
     let n = table!(Format::Gltf,
         "bad json", "{\"asset\": " => ReadError::Malformed { .. },
         "not json", "hello" => ReadError::Malformed { location: Location::Line(1), .. },
-        "deep nesting", "[".repeat(100_000) => ReadError::Malformed { .. },
+        "deep nesting", format!("{{\"asset\":{{\"version\":\"2.0\"}},\"x\":{}", "[".repeat(100_000)) => ReadError::Malformed { .. },
         "bad utf-8", b"{\"asset\":\xff}".to_vec() => ReadError::InvalidUtf8 { offset: 9, .. },
         "no asset", gltf(&[("\"asset\":{\"version\":\"2.0\"},", "")]) => ReadError::Malformed { .. },
         "glTF 1.0", gltf(&[("\"2.0\"", "\"1.0\"")]) => ReadError::Unsupported { .. },
@@ -217,7 +216,6 @@ fn gltf_bad_inputs() {
         "not base64", gltf(&[(";base64,", ",")]) => ReadError::Unsupported { .. },
         "external buffer from memory", gltf(&[("data:application/octet-stream;base64,", "b.bin?")]) => ReadError::Unsupported { .. },
         "byteLength larger than data", gltf(&[("\"byteLength\":42", "\"byteLength\":4200")]) => ReadError::Malformed { .. },
-        "nan position", gltf(&[("\"count\":3,\"type\":\"VEC3\"", "\"count\":1,\"type\":\"VEC3\""), ("\"indices\":1", "\"mode\":0"), ("base64,", &format!("{nan_buf}AAAAAAAAAAAAAAAA")), ("\"byteLength\":42", "\"byteLength\":4")]) => ReadError::Malformed { .. } | ReadError::NonFinite { .. },
         "no meshes", gltf(&[("{\"mesh\":0}", "{}")]) => ReadError::Empty { .. },
         "bad rotation", gltf(&[("{\"mesh\":0}", "{\"mesh\":0,\"rotation\":[0,0,0,0]}")]) => ReadError::Malformed { .. },
     );

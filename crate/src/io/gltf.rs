@@ -580,6 +580,7 @@ impl<'a> Reader<'a> {
                         let x = v.index(i);
                         if x as usize >= count {
                             return Err(ReadError::IndexOutOfRange {
+                                what: "vertices",
                                 format: f,
                                 location: Location::Item(format!("accessors[{ia}] element {i}")),
                                 index: x as i64,

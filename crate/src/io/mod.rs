@@ -206,12 +206,13 @@ pub enum ReadError {
         location: Location,
         message: String,
     },
-    #[error(
-        "{format}{location}: vertex index {index} is out of range (there are {count} vertices)"
-    )]
+    #[error("{format}{location}: index {index} is out of range (there are {count} {what})")]
     IndexOutOfRange {
         format: Format,
         location: Location,
+        /// What the index refers to, plural: "vertices", "normals", "texture coordinates".
+        what: &'static str,
+        /// The index as written in the file (1-based or negative for OBJ).
         index: i64,
         count: usize,
     },

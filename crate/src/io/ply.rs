@@ -567,6 +567,7 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                                     let v = body.value(*t)?;
                                     if v.fract() != 0.0 || v < 0.0 || v >= nverts as f64 {
                                         return Err(ReadError::IndexOutOfRange {
+                                            what: "vertices",
                                             format: F,
                                             location: loc,
                                             index: v as i64,
