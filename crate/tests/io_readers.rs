@@ -335,3 +335,63 @@ fn points_variants() {
     assert_eq!(m.positions.len(), 3);
     assert_eq!(m.positions[2], Vec3::new(7., 8., 9.));
 }
+
+#[test]
+fn gltf_interleaved_stride_u8_indices_matrix_and_quantized_normals() {
+    // Interleaved: position (3 f32) + normal (3 f32) per vertex, stride 24.
+    let mut buf = Vec::new();
+    for p in [[0f32, 0., 0.], [1., 0., 0.], [0., 1., 0.]] {
+        buf.extend(f32s(&p));
+        buf.extend(f32s(&[0., 0., 1.]));
+    }
+    let idx_at = buf.len();
+    buf.extend_from_slice(&[0, 1, 2, 0]); // u8 indices + padding
+    let q_at = buf.len();
+    buf.extend_from_slice(&[0, 0, 127, 0, 0, 0, 127, 0, 0, 0, 127, 0]); // i8 normalized normals, stride 4
+    let doc = format!(
+        r#"{{"asset":{{"version":"2.0"}},"extensionsRequired":["KHR_mesh_quantization"],
+  "scenes":[{{"nodes":[0]}}],"scene":0,
+  "nodes":[{{"mesh":0,"matrix":[1,0,0,0, 0,1,0,0, 0,0,1,0, 10,0,0,1]}}],
+  "meshes":[{{"primitives":[
+    {{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2}},
+    {{"attributes":{{"POSITION":0,"NORMAL":3}},"indices":2}}]}}],
+  "accessors":[
+    {{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3"}},
+    {{"bufferView":0,"byteOffset":12,"componentType":5126,"count":3,"type":"VEC3"}},
+    {{"bufferView":1,"componentType":5121,"count":3,"type":"SCALAR"}},
+    {{"bufferView":2,"componentType":5120,"normalized":true,"count":3,"type":"VEC3"}}],
+  "bufferViews":[
+    {{"buffer":0,"byteLength":72,"byteStride":24}},
+    {{"buffer":0,"byteOffset":{idx_at},"byteLength":3}},
+    {{"buffer":0,"byteOffset":{q_at},"byteLength":12,"byteStride":4}}],
+  "buffers":[{{"byteLength":{},"uri":"data:application/gltf-buffer;base64,{}"}}]}}"#,
+        buf.len(),
+        encode_base64(&buf)
+    );
+    let m = read(doc.as_bytes(), Format::Gltf);
+    assert_eq!(m.positions.len(), 6, "two primitives, vertices not shared");
+    assert_eq!(m.positions[1], Vec3::new(11., 0., 0.));
+    assert_eq!(m.faces, vec![[0, 1, 2], [3, 4, 5]]);
+    assert!(
+        m.normals.iter().all(|n| close(*n, Vec3::Z)),
+        "{:?}",
+        m.normals
+    );
+}
+
+#[test]
+fn gltf_missing_external_buffer_is_an_io_error() {
+    let dir = std::env::temp_dir().join(format!("meshflow-gltf-missing-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::write(dir.join("m.gltf"), gltf_doc([1.0; 3], "nope.bin")).unwrap();
+    let e = read_path(&dir.join("m.gltf"), &Limits::default()).unwrap_err();
+    assert!(matches!(e, meshflow::io::ReadError::Io(_)), "{e:?}");
+    assert!(!e.to_string().is_empty());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn format_names() {
+    let names: Vec<_> = Format::ALL.iter().map(|f| f.to_string()).collect();
+    assert_eq!(names, ["OBJ", "PLY", "STL", "glTF", "GLB", "point list"]);
+}

@@ -580,6 +580,7 @@ impl<'a> Reader<'a> {
                         let x = v.index(i);
                         if x as usize >= count {
                             return Err(ReadError::IndexOutOfRange {
+                                what: "vertices",
                                 format: f,
                                 location: Location::Item(format!("accessors[{ia}] element {i}")),
                                 index: x as i64,
@@ -827,7 +828,8 @@ fn percent_decode(s: &str) -> String {
 /// One node, one mesh, one primitive: `POSITION` (with min/max), `NORMAL` when the mesh has
 /// normals (renormalised; if one cannot be, normals are left out) and `u32` indices in
 /// TRIANGLES mode, or POINTS mode without indices for a point cloud. An empty mesh gives a
-/// document with an empty scene.
+/// document with an empty scene. The mesh should pass [`Mesh::validate`]; GLB cannot hold
+/// more than 4 GiB (about 150 M vertices with normals), which [`Limits`] keeps far away.
 pub fn write_glb(mesh: &Mesh) -> Vec<u8> {
     use serde_json::json;
     let n = mesh.positions.len();

@@ -206,12 +206,13 @@ pub enum ReadError {
         location: Location,
         message: String,
     },
-    #[error(
-        "{format}{location}: vertex index {index} is out of range (there are {count} vertices)"
-    )]
+    #[error("{format}{location}: index {index} is out of range (there are {count} {what})")]
     IndexOutOfRange {
         format: Format,
         location: Location,
+        /// What the index refers to, plural: "vertices", "normals", "texture coordinates".
+        what: &'static str,
+        /// The index as written in the file (1-based or negative for OBJ).
         index: i64,
         count: usize,
     },
@@ -273,22 +274,15 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
 /// External buffers of a `.gltf` file are resolved relative to the file's folder.
 pub fn read_path(path: &Path, limits: &Limits) -> Result<Mesh, ReadError> {
     let by_ext = Format::from_path(path);
+    // Checked before reading; when the format is not known yet it is reported as a point
+    // list (the catch-all), the limit being the same for every format.
     let len = std::fs::metadata(path)?.len();
     check_limit(
         by_ext.unwrap_or(Format::Points),
         "file size in bytes",
         len,
         limits.max_bytes,
-    )
-    .map_err(|e| match (e, by_ext) {
-        (ReadError::TooLarge { value, limit, .. }, None) => ReadError::TooLarge {
-            format: Format::Points,
-            what: "file size in bytes (format not yet known)",
-            value,
-            limit,
-        },
-        (e, _) => e,
-    })?;
+    )?;
     let bytes = std::fs::read(path)?;
     let format = by_ext
         .or_else(|| Format::sniff(&bytes))

@@ -65,12 +65,12 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                     if parts.next().is_some() {
                         return Err(malformed(F, loc(), format!("bad face corner `{tok}`")));
                     }
-                    corners.push(resolve(v, positions.len(), line_no, "vertex")?);
+                    corners.push(resolve(v, positions.len(), line_no, "vertices")?);
                     if let Some(t) = t.filter(|t| !t.is_empty()) {
-                        resolve(t, vt_count, line_no, "texture coordinate")?;
+                        resolve(t, vt_count, line_no, "texture coordinates")?;
                     }
                     corner_vn.push(match n.filter(|n| !n.is_empty()) {
-                        Some(n) => Some(resolve(n, vn.len(), line_no, "normal")?),
+                        Some(n) => Some(resolve(n, vn.len(), line_no, "normals")?),
                         None => None,
                     });
                 }
@@ -163,12 +163,12 @@ fn parse_vec3<'a>(
 }
 
 /// Resolves a 1-based or negative OBJ index against the `count` elements defined so far.
-fn resolve(tok: &str, count: usize, line: usize, what: &str) -> Result<u32, ReadError> {
+fn resolve(tok: &str, count: usize, line: usize, what: &'static str) -> Result<u32, ReadError> {
     let i: i64 = tok.parse().map_err(|_| {
         malformed(
             F,
             Location::Line(line),
-            format!("`{tok}` is not a valid {what} index"),
+            format!("`{tok}` is not a valid index"),
         )
     })?;
     let idx = if i > 0 {
@@ -181,6 +181,7 @@ fn resolve(tok: &str, count: usize, line: usize, what: &str) -> Result<u32, Read
     if idx < 0 || idx as u64 >= count as u64 {
         return Err(ReadError::IndexOutOfRange {
             format: F,
+            what,
             location: Location::Line(line),
             index: i,
             count,

@@ -428,18 +428,24 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                 })
                 .sum(),
         };
-        min_total = el
-            .count
-            .checked_mul(per)
-            .and_then(|b| b.checked_add(min_total))
-            .ok_or_else(|| element_too_big(el, data.len()))?;
-        if min_total > data.len() as u64 {
-            return Err(element_too_big(el, data.len()));
-        }
         match el.name.as_str() {
             "vertex" => check_limit(F, "vertex count", el.count, vertex_limit(limits))?,
             "face" => check_limit(F, "face count", el.count, limits.max_faces as u64)?,
             _ => {}
+        }
+        let need = el
+            .count
+            .checked_mul(per)
+            .and_then(|b| b.checked_add(min_total));
+        match need {
+            Some(n) if n <= data.len() as u64 => min_total = n,
+            _ => {
+                return Err(ReadError::Truncated {
+                    format: F,
+                    offset: bytes.len() as u64,
+                    expected: need.map_or(u64::MAX, |n| n - data.len() as u64),
+                });
+            }
         }
     }
 
@@ -502,9 +508,14 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                         }
                     }
                     if !p.iter().all(|c| c.is_finite()) {
+                        // Binary: where the vertex starts; ascii: the line just read.
+                        let location = match loc {
+                            Location::Byte(_) => loc,
+                            _ => body.location(),
+                        };
                         return Err(ReadError::NonFinite {
                             format: F,
-                            location: loc,
+                            location,
                         });
                     }
                     positions.push(Vec3::from_array(p));
@@ -556,6 +567,7 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                                     let v = body.value(*t)?;
                                     if v.fract() != 0.0 || v < 0.0 || v >= nverts as f64 {
                                         return Err(ReadError::IndexOutOfRange {
+                                            what: "vertices",
                                             format: F,
                                             location: loc,
                                             index: v as i64,
@@ -581,17 +593,6 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
         }
     }
     finish(F, positions, normals, faces)
-}
-
-fn element_too_big(el: &Element, left: usize) -> ReadError {
-    malformed(
-        F,
-        Location::Unknown,
-        format!(
-            "element `{}` declares {} items, more than the {left} data bytes can hold",
-            el.name, el.count
-        ),
-    )
 }
 
 /// Binary little-endian PLY: `vertex` with `float x y z` (and `nx ny nz` when the mesh has
@@ -655,7 +656,7 @@ mod tests {
         let s = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\nproperty float z\nend_header\n";
         assert!(matches!(
             read(s.as_bytes(), &Limits::default()),
-            Err(ReadError::TooLarge { .. } | ReadError::Malformed { .. })
+            Err(ReadError::TooLarge { .. })
         ));
     }
 }
