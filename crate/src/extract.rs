@@ -121,10 +121,10 @@ pub fn spacetime_distance(a: &[f32], b: &[f32]) -> f32 {
 /// exceeds `tau`, sorted lexicographically. This is the O(n^2 dim) hot spot of extraction.
 ///
 /// It uses the expansion `d_ij = q_i + q_j - 2 <h_i, g_j>` with `q = |s|^2 - |t|^2` and
-/// `g = [s, -t]`, so the inner loop is a blocked matrix product that vectorises (with AVX2 where
-/// the CPU has it, chosen at run time). Values agree with the direct formula to ~1e-6 relative
-/// to |h|^2. Both code paths do the same f32 operations in the same order, so the edge list
-/// does not depend on the machine.
+/// `g = [s, -t]`, so the inner loop is a blocked matrix product that vectorises (AVX2 where the
+/// CPU has it, chosen at run time). Values agree with the direct formula to
+/// ~1e-6 relative to |h|^2. Every code path does the same f32 operations in the same order, so
+/// the edge list does not depend on the machine.
 pub fn spacetime_edges(
     embeddings: &[f32],
     dim: usize,
@@ -149,7 +149,7 @@ pub fn spacetime_edges(
     let n = embeddings.len() / dim;
     let half = dim / 2;
     // g^T laid out dimension-major and padded to a whole number of column blocks.
-    let cols = n.div_ceil(COL_BLOCK) * COL_BLOCK;
+    let cols = n.div_ceil(MAX_COL_BLOCK) * MAX_COL_BLOCK;
     let mut g_t = vec![0.0f32; dim * cols];
     // Padding columns get q = -inf, so they never pass the threshold.
     let mut q = vec![f32::NEG_INFINITY; cols];
@@ -180,8 +180,8 @@ pub fn spacetime_edges(
     Ok(edges)
 }
 
-const ROW_BLOCK: usize = 4;
-const COL_BLOCK: usize = 16;
+/// Columns are padded to a multiple of the widest column block any kernel build uses.
+const MAX_COL_BLOCK: usize = 16;
 
 struct ThresholdBlock<'a> {
     embeddings: &'a [f32],
@@ -193,8 +193,10 @@ struct ThresholdBlock<'a> {
     tau: f32,
 }
 
-/// Picks the AVX2 build of the kernel when the CPU has it. Both builds run the same scalar
-/// operations in the same order (no FMA contraction), so they give identical results.
+/// Picks the AVX2 build of the kernel when the CPU has it (6 x 16 accumulators fill its
+/// sixteen 8-lane registers). Both builds run the same scalar operations in the same order (no
+/// FMA contraction), so they give identical results. (An AVX-512 build measured several times
+/// slower here: the vectoriser handles this kernel badly with 16 lanes.)
 fn threshold_dispatch<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
     #[cfg(target_arch = "x86_64")]
     {
@@ -204,22 +206,25 @@ fn threshold_dispatch<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge
             return;
         }
     }
-    threshold_rows::<DIM>(b, edges)
+    threshold_rows::<DIM, 4, 16>(b, edges)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn threshold_rows_avx2<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
-    threshold_rows::<DIM>(b, edges)
+    threshold_rows::<DIM, 6, 16>(b, edges)
 }
 
-/// The register-blocked kernel for embeddings of `DIM` values: ROW_BLOCK rows of h against
-/// COL_BLOCK columns of g at a time, only for column blocks that reach past the diagonal.
-/// Fixed sizes let the compiler keep the 4 x 16 accumulators in vector registers.
+/// The register-blocked kernel for embeddings of `DIM` values: `ROW_BLOCK` rows of h against
+/// `COL_BLOCK` columns of g at a time, only for column blocks that reach past the diagonal.
+/// Fixed sizes let the compiler keep the accumulators in vector registers.
 // Index loops over fixed-size arrays are what the vectoriser turns into register blocks.
 #[allow(clippy::needless_range_loop)]
 #[inline(always)]
-fn threshold_rows<const DIM: usize>(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
+fn threshold_rows<const DIM: usize, const ROW_BLOCK: usize, const COL_BLOCK: usize>(
+    b: &ThresholdBlock,
+    edges: &mut Vec<Edge>,
+) {
     let (n, cols) = (b.n, b.cols);
     let mut i0 = 0;
     while i0 < n {
