@@ -52,6 +52,6 @@ run compare "$OUT/out.glb" "$MESH"
 
 log "done. Input: $MESH"
 echo "[demo.sh] outputs in $OUT:"
-echo "[demo.sh]   $OUT/points.ply  (8,192 sampled points, ASCII PLY)"
+echo "[demo.sh]   $OUT/points.ply  (8,192 sampled points, binary PLY)"
 echo "[demo.sh]   $OUT/out.glb     (binary glTF of the mesh)"
 echo "[demo.sh] the CLI binary is $MESHFLOW"
