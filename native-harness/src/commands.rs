@@ -110,6 +110,9 @@ pub fn sample(
     seed: u64,
     with_normals: bool,
 ) -> Result<()> {
+    if count == 0 {
+        return Err(BadInput("the number of points (-n) must be at least 1".into()).into());
+    }
     let mesh = read(mesh_path)?;
     let samples = step("sampling", || sample_surface(&mesh, count, seed))
         .with_context(|| format!("cannot sample {}", mesh_path.display()))?;

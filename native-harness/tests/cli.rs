@@ -176,6 +176,21 @@ fn bad_input_is_one_line_and_status_2() {
     }
     let missing = meshflow(&["inspect", dir.join("does-not-exist.obj").to_str().unwrap()]);
     assert_eq!(missing.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&missing.stderr);
+    assert_eq!(
+        stderr.matches("No such file").count(),
+        1,
+        "the cause is printed once: {stderr}"
+    );
+    let none = meshflow(&[
+        "sample",
+        fixture("meshes/bread.obj").to_str().unwrap(),
+        "-n",
+        "0",
+        "-o",
+        "x.ply",
+    ]);
+    assert_eq!(none.status.code(), Some(2));
     let points = fixture("points/stone_lantern_2048.ply");
     let out = meshflow(&[
         "sample",

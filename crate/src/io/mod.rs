@@ -233,8 +233,16 @@ pub enum ReadError {
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
     InvalidUtf8 { format: Format, offset: u64 },
+    // The cause is part of the message rather than a `source`, so error chains that print
+    // sources (anyhow's `{:#}`) do not repeat it.
     #[error("could not read the file: {0}")]
-    Io(#[from] std::io::Error),
+    Io(std::io::Error),
+}
+
+impl From<std::io::Error> for ReadError {
+    fn from(e: std::io::Error) -> Self {
+        ReadError::Io(e)
+    }
 }
 
 /// Why a mesh could not be written.
@@ -242,10 +250,23 @@ pub enum ReadError {
 pub enum WriteError {
     #[error("cannot write `{extension}` files (use .glb, .obj or .ply)")]
     UnsupportedFormat { extension: String },
+    // As in ReadError: causes are in the message, not `source`, so chains print them once.
     #[error("the mesh is invalid: {0}")]
-    InvalidMesh(#[from] MeshError),
+    InvalidMesh(MeshError),
     #[error("could not write the file: {0}")]
-    Io(#[from] std::io::Error),
+    Io(std::io::Error),
+}
+
+impl From<MeshError> for WriteError {
+    fn from(e: MeshError) -> Self {
+        WriteError::InvalidMesh(e)
+    }
+}
+
+impl From<std::io::Error> for WriteError {
+    fn from(e: std::io::Error) -> Self {
+        WriteError::Io(e)
+    }
 }
 
 /// Reads a mesh of a known format from memory.
