@@ -146,6 +146,24 @@ pub fn spacetime_edges(
             row: i / dim,
         });
     }
+    Ok(run_threshold(
+        embeddings,
+        dim,
+        tau,
+        |block, edges| match dim {
+            32 => threshold_dispatch::<32>(block, edges),
+            _ => threshold_rows_any(block, edges),
+        },
+    ))
+}
+
+/// Lays out g^T and q for `kernel`, runs it, and sorts the edges it found.
+fn run_threshold(
+    embeddings: &[f32],
+    dim: usize,
+    tau: f32,
+    kernel: impl Fn(&ThresholdBlock, &mut Vec<Edge>),
+) -> Vec<Edge> {
     let n = embeddings.len() / dim;
     let half = dim / 2;
     // g^T laid out dimension-major and padded to a whole number of column blocks.
@@ -171,13 +189,10 @@ pub fn spacetime_edges(
         tau,
     };
     let mut edges = Vec::new();
-    match dim {
-        32 => threshold_dispatch::<32>(&block, &mut edges),
-        _ => threshold_rows_any(&block, &mut edges),
-    }
+    kernel(&block, &mut edges);
     // Rows were visited in blocks; restore the lexicographic order callers rely on.
     edges.sort_unstable();
-    Ok(edges)
+    edges
 }
 
 /// Columns are padded to a multiple of the widest column block any kernel build uses.
@@ -310,34 +325,49 @@ pub fn canonical_edges(edges: &[Edge], num_vertices: usize) -> Result<Vec<Edge>,
 }
 
 /// Every 3-clique (a < b < c) of a canonical edge list, sorted lexicographically.
+///
+/// Each edge is oriented from its lower- to its higher-ranked end, rank = (degree, index), and
+/// for every vertex v the triangles are found by marking v's out-neighbours and scanning theirs.
+/// Out-degrees are then at most sqrt(2m), so the work is O(m^1.5) even around a vertex joined to
+/// everything (the pole of a cone), where a plain sorted-list intersection is quadratic.
 pub fn triangles_of_edges(num_vertices: usize, edges: &[Edge]) -> Vec<[u32; 3]> {
-    // Forward neighbour lists (larger neighbours only), each sorted because `edges` is.
+    let mut degree = vec![0u32; num_vertices];
+    for &[a, b] in edges {
+        degree[a as usize] += 1;
+        degree[b as usize] += 1;
+    }
+    let ranks_below = |a: u32, b: u32| (degree[a as usize], a) < (degree[b as usize], b);
     let mut offsets = vec![0u32; num_vertices + 1];
-    for &[a, _] in edges {
-        offsets[a as usize + 1] += 1;
+    for &[a, b] in edges {
+        let from = if ranks_below(a, b) { a } else { b };
+        offsets[from as usize + 1] += 1;
     }
     for v in 0..num_vertices {
         offsets[v + 1] += offsets[v];
     }
-    let forward: Vec<u32> = edges.iter().map(|e| e[1]).collect();
-    let fwd = |v: u32| &forward[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
-    let mut faces = Vec::new();
+    let mut out = vec![0u32; edges.len()];
+    let mut fill = offsets.clone();
     for &[a, b] in edges {
-        // Sorted-list intersection of the forward neighbours of a and b: every c > b.
-        let (na, nb) = (fwd(a), fwd(b));
-        let (mut x, mut y) = (na.partition_point(|&c| c <= b), 0);
-        while x < na.len() && y < nb.len() {
-            match na[x].cmp(&nb[y]) {
-                std::cmp::Ordering::Less => x += 1,
-                std::cmp::Ordering::Greater => y += 1,
-                std::cmp::Ordering::Equal => {
-                    faces.push([a, b, na[x]]);
-                    x += 1;
-                    y += 1;
+        let (from, to) = if ranks_below(a, b) { (a, b) } else { (b, a) };
+        out[fill[from as usize] as usize] = to;
+        fill[from as usize] += 1;
+    }
+    let out_of = |v: u32| &out[offsets[v as usize] as usize..offsets[v as usize + 1] as usize];
+    let mut mark = vec![u32::MAX; num_vertices];
+    let mut faces = Vec::new();
+    for v in 0..num_vertices as u32 {
+        for &u in out_of(v) {
+            mark[u as usize] = v;
+        }
+        for &u in out_of(v) {
+            for &w in out_of(u) {
+                if mark[w as usize] == v {
+                    faces.push(sorted_face([v, u, w]));
                 }
             }
         }
     }
+    faces.sort_unstable();
     faces
 }
 
@@ -425,16 +455,19 @@ pub fn extract_mesh(
         report.non_manifold_faces_dropped = before - faces.len();
     }
 
-    // A fan triangle that is already a face (the boundary of a lone triangle is a 3-loop)
-    // would only make a double-sided copy, so it is never added.
+    // A loop whose fan would repeat an existing face is left open: the boundary of a lone
+    // triangle is a 3-loop (filling it makes a double-sided copy), and a partial fan would put
+    // a third face on an edge.
     let mut existing: Vec<[u32; 3]> = faces.iter().map(|&f| sorted_face(f)).collect();
     existing.sort_unstable();
     for lp in boundary_loops(&faces) {
         let fan: Vec<[u32; 3]> = (1..lp.len() - 1)
             .map(|k| [lp[0], lp[k], lp[k + 1]])
-            .filter(|&t| existing.binary_search(&sorted_face(t)).is_err())
             .collect();
-        if opts.fill_holes && lp.len() <= opts.max_hole_edges && !fan.is_empty() {
+        let repeats_a_face = fan
+            .iter()
+            .any(|&t| existing.binary_search(&sorted_face(t)).is_ok());
+        if opts.fill_holes && lp.len() <= opts.max_hole_edges && !repeats_a_face {
             report.holes_filled += 1;
             report.hole_faces += fan.len();
             faces.extend(fan.into_iter().map(|t| orient_face(t, positions, &normals)));
@@ -573,6 +606,21 @@ pub fn extract_from_decoded(
             });
         }
     }
+    // Checked here, before masking, so a bad row is reported in the decoder's numbering.
+    for (what, rows) in [
+        ("positions", decoded.positions),
+        ("normals", decoded.normals),
+    ] {
+        if let Some(row) = rows.iter().position(|p| !p.is_finite()) {
+            return Err(ExtractError::NonFinite { what, row });
+        }
+    }
+    if let Some(i) = decoded.embeddings.iter().position(|x| !x.is_finite()) {
+        return Err(ExtractError::NonFinite {
+            what: "embeddings",
+            row: i / dim.max(1),
+        });
+    }
     let kept: Vec<usize> = (0..n).filter(|&i| decoded.mask_logits[i] > 0.0).collect();
     let positions: Vec<Vec3> = kept.iter().map(|&i| decoded.positions[i]).collect();
     let normals: Vec<Vec3> = kept.iter().map(|&i| decoded.normals[i]).collect();
@@ -626,6 +674,42 @@ mod tests {
             assert_eq!(canonical(&out.faces), canonical(&m.faces));
             assert_eq!(report.holes_left, usize::from(m.faces.len() == 18));
             assert_eq!(report.unreferenced_vertices_removed, 0);
+        }
+    }
+
+    #[test]
+    fn cliques_around_a_high_degree_vertex_are_complete() {
+        // A bipyramid: two poles joined to every vertex of a long rim. A quadratic clique search
+        // would take many minutes at this size (no timing assertion: the suite's run time shows
+        // it); the degree-ordered one takes milliseconds.
+        let rim = 200_000u32;
+        let (north, south) = (rim, rim + 1);
+        let mut e: Vec<Edge> = Vec::new();
+        for i in 0..rim {
+            let j = (i + 1) % rim;
+            e.extend([[i.min(j), i.max(j)], [i, north], [i, south]]);
+        }
+        e.sort_unstable();
+        let t = triangles_of_edges(rim as usize + 2, &e);
+        assert_eq!(t.len(), 2 * rim as usize);
+        assert!(t.windows(2).all(|w| w[0] < w[1]));
+    }
+
+    #[test]
+    fn every_kernel_build_finds_the_same_edges() {
+        // CI's CPUs take the AVX2 path; the portable build and the any-size loop must agree
+        // with it exactly (same operations in the same order), tails of every block size included.
+        let mut rng = crate::rng::Rng::new(9);
+        for n in [0usize, 1, 2, 5, 6, 7, 15, 16, 17, 37, 100, 203] {
+            let emb: Vec<f32> = (0..n * 32).map(|_| rng.normal() as f32 * 0.3).collect();
+            let portable = run_threshold(&emb, 32, TAU, threshold_rows::<32, 4, 16>);
+            let wide = run_threshold(&emb, 32, TAU, threshold_rows::<32, 6, 16>);
+            let any = run_threshold(&emb, 32, TAU, threshold_rows_any);
+            let public = spacetime_edges(&emb, 32, TAU).unwrap();
+            assert_eq!(portable, wide, "n={n}");
+            assert_eq!(portable, any, "n={n}");
+            assert_eq!(portable, public, "n={n}");
+            assert!(n < 37 || !portable.is_empty());
         }
     }
 
@@ -825,5 +909,20 @@ mod tests {
         assert_eq!(mesh.faces, vec![[0, 1, 2]]);
         let bad = DecodedVertices { dim: 3, ..decoded };
         assert!(extract_from_decoded(&bad, &ExtractOptions::default()).is_err());
+        // A non-finite row is named in the decoder's numbering, masked rows included.
+        let mut nan = positions;
+        nan[3].x = f32::NAN;
+        let bad = DecodedVertices {
+            positions: &nan,
+            ..decoded
+        };
+        let err = extract_from_decoded(&bad, &ExtractOptions::default()).unwrap_err();
+        assert_eq!(
+            err,
+            ExtractError::NonFinite {
+                what: "positions",
+                row: 3
+            }
+        );
     }
 }

@@ -34,6 +34,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::mesh::MeshError;
 use crate::normals::vertex_normals;
 use crate::rng::Rng;
 use crate::topology;
@@ -81,20 +82,14 @@ pub fn in_channels(cfg: &TokenConfig) -> usize {
 }
 
 /// Why [`build_tokens`] refused a mesh.
-#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum TokenError {
     #[error("the mesh has no vertices")]
     Empty,
     #[error("{vertices} vertices do not fit in {capacity} tokens")]
     TooManyVertices { vertices: usize, capacity: usize },
-    #[error("face {face} uses vertex {index} but the mesh has {vertices} vertices")]
-    FaceIndexOutOfRange {
-        face: usize,
-        index: u32,
-        vertices: usize,
-    },
-    #[error("{normals} normals for {vertices} vertices (expected none or one per vertex)")]
-    NormalCount { normals: usize, vertices: usize },
+    #[error("invalid mesh: {0}")]
+    InvalidMesh(MeshError),
 }
 
 /// The tokens of one mesh.
@@ -179,6 +174,24 @@ pub fn assemble_features(
     out.resize(out.len() + 3 * (cfg.max_degree - kept), 0.0);
 }
 
+/// The mesh's edges renumbered into token order (`order[t]` = the vertex of token `t`), each
+/// as (i, j) with i < j, sorted: the ground-truth adjacency the VAE's edge loss compares with.
+pub fn token_edges(faces: &[[u32; 3]], order: &[u32]) -> Vec<[u32; 2]> {
+    let mut rank = vec![0u32; order.len()];
+    for (t, &v) in order.iter().enumerate() {
+        rank[v as usize] = t as u32;
+    }
+    let mut edges: Vec<[u32; 2]> = topology::edges(faces)
+        .into_iter()
+        .map(|[a, b]| {
+            let (a, b) = (rank[a as usize], rank[b as usize]);
+            [a.min(b), a.max(b)]
+        })
+        .collect();
+    edges.sort_unstable();
+    edges
+}
+
 /// Builds the tokens of `mesh` (model frame, cleaned) by the rules in the module doc.
 pub fn build_tokens(mesh: &Mesh, cfg: &TokenConfig, seed: u64) -> Result<VertexTokens, TokenError> {
     let n = mesh.positions.len();
@@ -191,21 +204,7 @@ pub fn build_tokens(mesh: &Mesh, cfg: &TokenConfig, seed: u64) -> Result<VertexT
             capacity: cfg.num_vertices,
         });
     }
-    if !mesh.normals.is_empty() && mesh.normals.len() != n {
-        return Err(TokenError::NormalCount {
-            normals: mesh.normals.len(),
-            vertices: n,
-        });
-    }
-    for (face, f) in mesh.faces.iter().enumerate() {
-        if let Some(&index) = f.iter().find(|&&i| i as usize >= n) {
-            return Err(TokenError::FaceIndexOutOfRange {
-                face,
-                index,
-                vertices: n,
-            });
-        }
-    }
+    mesh.validate().map_err(TokenError::InvalidMesh)?;
     let computed;
     let normals: &[Vec3] = if mesh.normals.is_empty() {
         computed = vertex_normals(&mesh.positions, &mesh.faces);
@@ -214,18 +213,7 @@ pub fn build_tokens(mesh: &Mesh, cfg: &TokenConfig, seed: u64) -> Result<VertexT
         &mesh.normals
     };
     let order = vertex_order(&mesh.positions);
-    let mut rank = vec![0u32; n];
-    for (t, &v) in order.iter().enumerate() {
-        rank[v as usize] = t as u32;
-    }
-    let mut edges: Vec<[u32; 2]> = topology::edges(&mesh.faces)
-        .into_iter()
-        .map(|[a, b]| {
-            let (a, b) = (rank[a as usize], rank[b as usize]);
-            [a.min(b), a.max(b)]
-        })
-        .collect();
-    edges.sort_unstable();
+    let edges = token_edges(&mesh.faces, &order);
     let adj = topology::adjacency(n, &edges);
 
     let channels = in_channels(cfg);
@@ -378,13 +366,16 @@ mod tests {
         let bad = Mesh::new(vec![Vec3::ZERO, Vec3::X, Vec3::Y], vec![[0, 1, 3]]);
         assert!(matches!(
             build_tokens(&bad, &cfg, 0),
-            Err(TokenError::FaceIndexOutOfRange { index: 3, .. })
+            Err(TokenError::InvalidMesh(MeshError::IndexOutOfRange {
+                index: 3,
+                ..
+            }))
         ));
         let mut m = octahedron();
         m.normals = vec![Vec3::Z];
         assert!(matches!(
             build_tokens(&m, &cfg, 0),
-            Err(TokenError::NormalCount { .. })
+            Err(TokenError::InvalidMesh(MeshError::NormalCount { .. }))
         ));
     }
 

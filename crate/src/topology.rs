@@ -140,8 +140,9 @@ pub fn adjacency(num_vertices: usize, edges: &[Edge]) -> Vec<Vec<u32>> {
 ///
 /// Each connected piece is walked from its smallest unused edge, always taking the unused
 /// edge to the smallest neighbour; whenever the walk reaches a vertex already on its current
-/// path, that stretch is cut off as one simple loop. So a figure-eight at a pinch vertex gives
-/// two loops, and open chains (dead ends) give none. Deterministic for a given edge set.
+/// path, that stretch is cut off as one simple loop, and at a dead end the walk steps back.
+/// So a figure-eight at a pinch vertex gives two loops, a loop with a spur hanging off it gives
+/// the loop, and open chains give none. Deterministic for a given edge set.
 /// Each loop lists its vertices once, in walking order, starting where the walk closed it.
 pub fn edge_loops(edges: &[Edge]) -> Vec<Vec<u32>> {
     // Compact vertex ids so the work is proportional to the edge count, not the mesh size.
@@ -176,7 +177,15 @@ pub fn edge_loops(edges: &[Edge]) -> Vec<Vec<u32>> {
             let next = incident[current as usize]
                 .iter()
                 .find(|&&(_, e)| !used[e as usize]);
-            let Some(&(next, e)) = next else { break };
+            let Some(&(next, e)) = next else {
+                // A dead end (a spur off a loop): step back and try the other ways out.
+                if path.len() <= 1 {
+                    break;
+                }
+                on_path[path.pop().expect("non-empty") as usize] = false;
+                current = *path.last().expect("non-empty");
+                continue;
+            };
             used[e as usize] = true;
             if on_path[next as usize] {
                 let at = path
@@ -366,6 +375,15 @@ mod tests {
         assert!(loops.iter().all(|l| l.len() == 3));
         // An open chain is no loop.
         assert!(edge_loops(&[[0, 1], [1, 2]]).is_empty());
+        // A spur off a loop, met first by the smallest-neighbour rule, does not hide the loop.
+        assert_eq!(
+            edge_loops(&[[0, 1], [1, 2], [1, 3], [0, 3]]),
+            vec![vec![0, 1, 3]]
+        );
+        assert_eq!(
+            edge_loops(&[[0, 1], [1, 2], [2, 5], [1, 3], [0, 3]]),
+            vec![vec![0, 1, 3]]
+        );
     }
 
     #[test]

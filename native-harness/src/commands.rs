@@ -8,8 +8,9 @@ use meshflow::extract::{ExtractOptions, ExtractReport, FaceSupport, extract_mesh
 use meshflow::io::{Limits, read_path, write_path};
 use meshflow::metrics::{CompareOptions, compare_meshes};
 use meshflow::normalize::Normalization;
+use meshflow::normals::vertex_normals;
 use meshflow::sample::sample_surface;
-use meshflow::tokens::{TokenConfig, build_tokens};
+use meshflow::tokens::{token_edges, vertex_order};
 use meshflow::topology::{TopologyReport, adjacency, edges, rotate_min_first, sorted_face};
 use meshflow::{Mesh, mesh::Aabb};
 use serde::Serialize;
@@ -213,14 +214,16 @@ pub fn extract(
         .aabb()
         .ok_or_else(|| BadInput(format!("{} is empty after cleaning", mesh_path.display())))?;
     let model_frame = Normalization::to_model_frame(aabb).apply_mesh(&cleaned);
-    // Every vertex becomes a token; N is the vertex count rounded up to the merge ratio (4).
-    let cfg = TokenConfig {
-        num_vertices: cleaned.positions.len().div_ceil(4) * 4,
-        max_degree: 50,
-        num_freqs: 16,
-    };
-    let tokens = build_tokens(&model_frame, &cfg, 0)?;
-    let real = tokens.num_real;
+    // The token layer without its features (which would cost ~1.4 KB per vertex): every vertex
+    // is a token in the VAE's order, and the ground-truth adjacency is renumbered into it.
+    let order = vertex_order(&model_frame.positions);
+    let normals = vertex_normals(&model_frame.positions, &model_frame.faces);
+    let token_positions: Vec<_> = order
+        .iter()
+        .map(|&v| model_frame.positions[v as usize])
+        .collect();
+    let token_normals: Vec<_> = order.iter().map(|&v| normals[v as usize]).collect();
+    let edges = token_edges(&model_frame.faces, &order);
     let opts = ExtractOptions {
         fill_holes: max_hole_edges >= 3,
         max_hole_edges,
@@ -229,14 +232,14 @@ pub fn extract(
         ..Default::default()
     };
     let (out, extract_report) = extract_mesh(
-        &tokens.positions[..real],
-        &tokens.normals[..real],
-        &tokens.edges,
+        &token_positions,
+        &token_normals,
+        &edges,
         FaceSupport::Geometric,
         &opts,
     )?;
     // Back to the cleaned mesh's numbering and coordinates.
-    let original = |t: u32| tokens.order[t as usize];
+    let original = |t: u32| order[t as usize];
     let faces: Vec<[u32; 3]> = out.faces.iter().map(|f| f.map(original)).collect();
     let result = Mesh {
         positions: cleaned.positions.clone(),

@@ -150,7 +150,10 @@ fn main() -> ExitCode {
                     || e.is::<meshflow::io::ReadError>()
                     || e.is::<meshflow::sample::SampleError>()
                     || e.is::<meshflow::metrics::MetricsError>()
-                    || e.is::<meshflow::tokens::TokenError>()
+                    || e.downcast_ref::<meshflow::io::WriteError>()
+                        .is_some_and(|w| {
+                            matches!(w, meshflow::io::WriteError::UnsupportedFormat { .. })
+                        })
             });
             ExitCode::from(if bad_input { 2 } else { 1 })
         }
