@@ -3,14 +3,8 @@
 
 use meshflow::io::{Format, Limits, Location, ReadError, encode_base64, read_bytes, write_glb};
 
-/// Reads `bytes` as `format` and checks the error with `ok`. Returns 1 (for counting cases).
-fn check(
-    format: Format,
-    bytes: &[u8],
-    limits: &Limits,
-    what: &str,
-    ok: fn(&ReadError) -> bool,
-) -> usize {
+/// Reads `bytes` as `format` and checks the error with `ok`.
+fn check(format: Format, bytes: &[u8], limits: &Limits, what: &str, ok: fn(&ReadError) -> bool) {
     match read_bytes(bytes, format, limits) {
         Ok(m) => panic!(
             "{format} case `{what}` was accepted: {} vertices",
@@ -26,14 +20,11 @@ fn check(
             eprintln!("{format} {what}: {msg}");
         }
     }
-    1
 }
 
 macro_rules! table {
     ($format:expr, $( $what:literal, $bytes:expr => $pat:pat ),+ $(,)?) => {{
-        let mut n = 0;
-        $( n += check($format, &Vec::<u8>::from($bytes), &Limits::default(), $what, |e| matches!(e, $pat)); )+
-        n
+        $( check($format, &Vec::<u8>::from($bytes), &Limits::default(), $what, |e| matches!(e, $pat)); )+
     }};
 }
 
@@ -41,7 +32,7 @@ const TRI: &str = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
 
 #[test]
 fn obj_bad_inputs() {
-    let n = table!(Format::Obj,
+    table!(Format::Obj,
         "bad utf-8", b"v 0 0 0\n\xff\xfe\n".to_vec() => ReadError::InvalidUtf8 { offset: 8, .. },
         "nan", "v nan 0 0\n" => ReadError::NonFinite { location: Location::Line(1), .. },
         "inf", "v 0 0 0\nv 0 -inf 0\n" => ReadError::NonFinite { location: Location::Line(2), .. },
@@ -60,7 +51,6 @@ fn obj_bad_inputs() {
         "no vertices", "# nothing\no x\n" => ReadError::Empty { .. },
         "empty file", "" => ReadError::Empty { .. },
     );
-    assert!(n >= 10);
 }
 
 fn ply_header(format: &str, rest: &str) -> String {
@@ -90,7 +80,7 @@ fn ply_bad_inputs() {
     let mut nan = ply_tri_bin(2);
     let at = nan.len() - 13 - 4; // z of the last vertex
     nan[at..at + 4].copy_from_slice(&f32::NAN.to_le_bytes());
-    let n = table!(Format::Ply,
+    table!(Format::Ply,
         "wrong magic", "plx\nformat ascii 1.0\nend_header\n" => ReadError::Malformed { location: Location::Byte(0), .. },
         "garbage", b"\x00\x01\x02garbage".to_vec() => ReadError::Malformed { .. },
         "no end_header", "ply\nformat ascii 1.0\nelement vertex 1\n" => ReadError::Malformed { .. },
@@ -117,7 +107,6 @@ fn ply_bad_inputs() {
         "no vertices", ply_header("ascii", &vtx("0")) => ReadError::Empty { .. },
         "float list count", ply_header("ascii", "element face 1\nproperty list float int vertex_indices\n") => ReadError::Malformed { .. },
     );
-    assert!(n >= 10);
 }
 
 fn stl_bin(count: u32, records: usize) -> Vec<u8> {
@@ -134,7 +123,7 @@ fn stl_bad_inputs() {
     let facet = |v: &str| {
         format!("solid s\nfacet normal 0 0 1\nouter loop\n{v}endloop\nendfacet\nendsolid s\n")
     };
-    let n = table!(Format::Stl,
+    table!(Format::Stl,
         "too short", b"not an stl".to_vec() => ReadError::Truncated { .. },
         "empty file", b"".to_vec() => ReadError::Truncated { .. },
         "count larger than file", stl_bin(10, 2) => ReadError::Truncated { .. },
@@ -151,7 +140,6 @@ fn stl_bad_inputs() {
         "bad utf-8", b"solid s\n\xc3\x28\n".to_vec() => ReadError::InvalidUtf8 { offset: 8, .. },
         "ascii without facets", "solid s\nendsolid s\n" => ReadError::Empty { .. },
     );
-    assert!(n >= 10);
 }
 
 /// A valid one-triangle glTF with `patch` applied to the JSON text as (from, to) pairs.
@@ -183,7 +171,7 @@ fn gltf_bad_inputs() {
         .map(|i| format!("{{\"children\":[{0},{0}]}},", i + 1))
         .collect::<String>()
         + "{\"mesh\":0}";
-    let n = table!(Format::Gltf,
+    table!(Format::Gltf,
         "bad json", "{\"asset\": " => ReadError::Malformed { .. },
         "not json", "hello" => ReadError::Malformed { location: Location::Line(1), .. },
         "deep nesting", format!("{{\"asset\":{{\"version\":\"2.0\"}},\"x\":{}", "[".repeat(100_000)) => ReadError::Malformed { .. },
@@ -219,7 +207,6 @@ fn gltf_bad_inputs() {
         "no meshes", gltf(&[("{\"mesh\":0}", "{}")]) => ReadError::Empty { .. },
         "bad rotation", gltf(&[("{\"mesh\":0}", "{\"mesh\":0,\"rotation\":[0,0,0,0]}")]) => ReadError::Malformed { .. },
     );
-    assert!(n >= 10);
 }
 
 #[test]
@@ -268,7 +255,7 @@ fn glb_bad_inputs() {
         g
     };
     let doc = br#"{"asset":{"version":"2.0"},"meshes":[{"primitives":[{"attributes":{"POSITION":0},"mode":0}]}],"accessors":[{"bufferView":0,"componentType":5126,"count":1,"type":"VEC3"}],"bufferViews":[{"buffer":0,"byteLength":12}],"buffers":[{"byteLength":12}]}"#;
-    let n = table!(Format::Glb,
+    table!(Format::Glb,
         "wrong magic", patch(|g| g[0] = b'x') => ReadError::Malformed { location: Location::Byte(0), .. },
         "header cut", good[..8].to_vec() => ReadError::Truncated { .. },
         "empty", b"".to_vec() => ReadError::Truncated { .. },
@@ -284,7 +271,6 @@ fn glb_bad_inputs() {
         "BIN chunk too small", glb_chunks(doc, Some(&[0; 8])) => ReadError::Malformed { .. },
         "nan in BIN", glb_chunks(doc, Some(&[0, 0, 0xc0, 0x7f, 0, 0, 0, 0, 0, 0, 0, 0])) => ReadError::NonFinite { .. },
     );
-    assert!(n >= 10);
     assert!(
         read_bytes(
             &glb_chunks(doc, Some(&[0; 12])),
@@ -297,7 +283,7 @@ fn glb_bad_inputs() {
 
 #[test]
 fn points_bad_inputs() {
-    let n = table!(Format::Points,
+    table!(Format::Points,
         "bad utf-8", b"1 2 3\n\xff".to_vec() => ReadError::InvalidUtf8 { offset: 6, .. },
         "nan", "1 2 3\nnan 0 0\n" => ReadError::NonFinite { location: Location::Line(2), .. },
         "inf", "inf 0 0\n" => ReadError::NonFinite { .. },
@@ -311,7 +297,6 @@ fn points_bad_inputs() {
         "only a count", "5\n" => ReadError::Empty { .. },
         "binary garbage", vec![0u8, 1, 2, 3, 0xff] => ReadError::InvalidUtf8 { .. },
     );
-    assert!(n >= 10);
 }
 
 #[test]
