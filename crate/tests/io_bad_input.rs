@@ -48,6 +48,8 @@ fn obj_bad_inputs() {
         "two corners", format!("{TRI}f 1 2\n") => ReadError::Malformed { .. },
         "too many slashes", format!("{TRI}f 1/1/1/1 2 3\n") => ReadError::Malformed { .. },
         "huge index", format!("{TRI}f 1 2 99999999999999999999999\n") => ReadError::Malformed { .. },
+        "normal not a number", format!("{TRI}vn 0 x 1\n") => ReadError::Malformed { location: Location::Line(4), .. },
+        "normal with two numbers", format!("{TRI}vn 0 1\n") => ReadError::Malformed { location: Location::Line(4), .. },
         "no vertices", "# nothing\no x\n" => ReadError::Empty { .. },
         "empty file", "" => ReadError::Empty { .. },
     );

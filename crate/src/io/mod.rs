@@ -17,7 +17,8 @@
 //!   are (cleaning is [`crate::clean`]'s job).
 //! - Normals: a normal whose length is already within 1e-5 of one is kept bit-for-bit, others
 //!   are renormalised; if any normal is zero-length or not finite, *all* normals are dropped
-//!   (the mesh then has none, and [`crate::normals`] can recompute them).
+//!   (the mesh then has none, and [`crate::normals`] can recompute them). A non-finite normal
+//!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
 mod base64;
 mod gltf;
