@@ -1,7 +1,13 @@
 //! Table-driven malformed inputs: every reader must answer each with the specific typed
 //! error (never a panic, never an `Ok`), with a non-empty message.
 
-use meshflow::io::{Format, Limits, Location, ReadError, encode_base64, read_bytes, write_glb};
+use std::path::{Path, PathBuf};
+use std::sync::mpsc;
+use std::time::Duration;
+
+use meshflow::io::{
+    Format, Limits, Location, ReadError, encode_base64, read_bytes, read_path, write_glb,
+};
 
 /// Reads `bytes` as `format` and checks the error with `ok`.
 fn check(format: Format, bytes: &[u8], limits: &Limits, what: &str, ok: fn(&ReadError) -> bool) {
@@ -370,4 +376,75 @@ fn limits_reject_with_too_large() {
 #[test]
 fn unknown_format_has_a_message() {
     assert!(!ReadError::UnknownFormat.to_string().is_empty());
+}
+
+/// A fresh, empty temporary folder for one test.
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("meshflow-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs `f` on another thread and fails the test if it has not answered within 20 s (so a
+/// read that blocks or never ends is a failure, not a hung test run).
+fn promptly<T: Send + 'static>(what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
+    let (tx, rx) = mpsc::channel();
+    std::thread::spawn(move || {
+        let _ = tx.send(f());
+    });
+    rx.recv_timeout(Duration::from_secs(20))
+        .unwrap_or_else(|_| panic!("{what}: no answer within 20 s"))
+}
+
+/// Makes a FIFO at `p` with `mkfifo`; false where that tool is not available.
+#[cfg(unix)]
+fn mkfifo(p: &Path) -> bool {
+    std::process::Command::new("mkfifo")
+        .arg(p)
+        .status()
+        .is_ok_and(|s| s.success())
+}
+
+#[test]
+fn read_path_refuses_what_is_not_a_regular_file() {
+    let dir = temp_dir("read-path-kinds");
+    // Named like a mesh, so neither the extension nor sniffing is what refuses it.
+    let folder = dir.join("folder.obj");
+    std::fs::create_dir_all(&folder).unwrap();
+    match read_path(&folder, &Limits::default()) {
+        Err(ReadError::Io(e)) => {
+            assert_eq!(e.kind(), std::io::ErrorKind::IsADirectory);
+            assert!(e.to_string().contains("is a directory"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    #[cfg(unix)]
+    {
+        for (dev, kind) in [
+            ("/dev/zero", "character device"),
+            ("/dev/null", "character device"),
+        ] {
+            if !Path::new(dev).exists() {
+                continue;
+            }
+            match promptly(dev, move || read_path(Path::new(dev), &Limits::default())) {
+                Err(ReadError::Io(e)) => {
+                    assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput, "{dev}");
+                    assert!(e.to_string().contains(kind), "{dev}: {e}");
+                    assert!(e.to_string().contains(dev), "{dev}: {e}");
+                }
+                other => panic!("{dev}: {other:?}"),
+            }
+        }
+        let fifo = dir.join("fifo.ply");
+        if mkfifo(&fifo) {
+            let r = promptly("FIFO", move || read_path(&fifo, &Limits::default()));
+            assert!(
+                matches!(&r, Err(ReadError::Io(e)) if e.to_string().contains("FIFO")),
+                "{r:?}"
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
