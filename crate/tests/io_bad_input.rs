@@ -406,6 +406,186 @@ fn mkfifo(p: &Path) -> bool {
         .is_ok_and(|s| s.success())
 }
 
+/// The `gltf` test document with its buffer at `uri` instead of in a `data:` URI.
+fn gltf_external(uri: &str) -> String {
+    let doc = String::from_utf8(gltf(&[])).unwrap();
+    let start = doc.find("\"uri\":\"").unwrap() + 7;
+    let end = start + doc[start..].find('"').unwrap();
+    format!("{}{uri}{}", &doc[..start], &doc[end..])
+}
+
+/// The buffer of the `gltf` test document.
+fn gltf_buffer() -> Vec<u8> {
+    let mut b: Vec<u8> = [0f32, 0., 0., 1., 0., 0., 0., 1., 0.]
+        .iter()
+        .flat_map(|c| c.to_le_bytes())
+        .collect();
+    b.extend_from_slice(&[0, 0, 1, 0, 2, 0]);
+    b
+}
+
+#[test]
+fn gltf_external_buffer_uris_stay_in_the_folder() {
+    let dir = temp_dir("gltf-uris");
+    let inner = dir.join("in");
+    std::fs::create_dir_all(inner.join("sub")).unwrap();
+    // Valid buffers both inside and outside the folder: only the URI rule can refuse.
+    std::fs::write(inner.join("ok.bin"), gltf_buffer()).unwrap();
+    std::fs::write(dir.join("outside.bin"), gltf_buffer()).unwrap();
+    let read = |uri: &str| {
+        let p = inner.join("m.gltf");
+        std::fs::write(&p, gltf_external(uri)).unwrap();
+        read_path(&p, &Limits::default())
+    };
+    assert_eq!(read("ok.bin").unwrap().faces.len(), 1);
+    assert_eq!(read("./ok.bin").unwrap().faces.len(), 1);
+    assert_eq!(read("%6Fk.bin").unwrap().faces.len(), 1);
+    let refused = [
+        ("../outside.bin", "leaves the glTF file's folder"),
+        ("%2E%2E/outside.bin", "leaves the glTF file's folder"),
+        ("%2e%2e%2foutside.bin", "leaves the glTF file's folder"),
+        ("sub/../../outside.bin", "leaves the glTF file's folder"),
+        ("/etc/hostname", "absolute path"),
+        ("%2Fetc%2Fhostname", "absolute path"),
+        ("%2Fdev%2Fzero", "absolute path"),
+        ("file:///etc/hostname", "not a relative file path"),
+        ("file:%2F%2F%2Fetc%2Fhostname", "not a relative file path"),
+        ("C:%5Cwindows%5Cwin.ini", "not a relative file path"),
+        ("..%5Coutside.bin", "not a relative file path"),
+        ("ok.bin%00", "not a relative file path"),
+        ("", "names no file"),
+        ("%2E", "names no file"),
+    ];
+    for (uri, why) in refused {
+        match read(uri) {
+            Err(e @ ReadError::Unsupported { .. }) => {
+                let msg = e.to_string();
+                assert!(msg.contains(why), "`{uri}`: {msg}");
+                assert!(msg.contains("buffers[0]"), "`{uri}`: {msg}");
+            }
+            other => panic!("`{uri}`: {other:?}"),
+        }
+    }
+    // A folder inside is not a file.
+    for uri in ["sub", "sub/", "%73ub"] {
+        match read(uri) {
+            Err(ReadError::Io(e)) => {
+                assert_eq!(e.kind(), std::io::ErrorKind::IsADirectory, "`{uri}`");
+                assert!(e.to_string().contains("is a directory"), "`{uri}`: {e}");
+            }
+            other => panic!("`{uri}`: {other:?}"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[cfg(unix)]
+#[test]
+fn gltf_external_buffer_must_be_a_regular_file() {
+    let dir = temp_dir("gltf-special");
+    let gltf_at = |uri: &str| {
+        let p = dir.join(format!("{uri}.gltf"));
+        std::fs::write(&p, gltf_external(uri)).unwrap();
+        p
+    };
+    // A link inside the folder to a device: the link itself is allowed, the device is not.
+    std::os::unix::fs::symlink("/dev/zero", dir.join("zero.bin")).unwrap();
+    let p = gltf_at("zero.bin");
+    match promptly("/dev/zero buffer", move || {
+        read_path(&p, &Limits::default())
+    }) {
+        Err(ReadError::Io(e)) => {
+            assert_eq!(e.kind(), std::io::ErrorKind::InvalidInput);
+            assert!(e.to_string().contains("character device"), "{e}");
+        }
+        other => panic!("{other:?}"),
+    }
+    if mkfifo(&dir.join("fifo.bin")) {
+        let p = gltf_at("fifo.bin");
+        let r = promptly("FIFO buffer", move || read_path(&p, &Limits::default()));
+        assert!(
+            matches!(&r, Err(ReadError::Io(e)) if e.to_string().contains("FIFO")),
+            "{r:?}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `/proc` files report a size of 0 whatever they hold: the limit must hold on the bytes
+/// that arrive, not on the size the metadata gives.
+#[cfg(target_os = "linux")]
+#[test]
+fn reads_stop_at_the_limit_whatever_the_metadata_says() {
+    let status = Path::new("/proc/self/status");
+    let Ok(held) = std::fs::read(status) else {
+        return; // no procfs here
+    };
+    assert_eq!(std::fs::metadata(status).unwrap().len(), 0);
+    let dir = temp_dir("gltf-proc");
+    std::os::unix::fs::symlink(status, dir.join("status.bin")).unwrap();
+    let doc = gltf_external("status.bin");
+    std::fs::write(dir.join("m.gltf"), &doc).unwrap();
+    let limit = doc.len() as u64 + 10;
+    assert!((held.len() as u64) > limit + 1);
+    let limits = Limits {
+        max_bytes: limit,
+        ..Limits::default()
+    };
+    let e = read_path(&dir.join("m.gltf"), &limits).unwrap_err();
+    assert!(
+        matches!(e, ReadError::TooLarge { what: "external buffer size", value, limit: l, .. } if value == limit + 1 && l == limit),
+        "{e:?}"
+    );
+    // The same for the file read_path is given.
+    let e = read_path(status, &limits).unwrap_err();
+    assert!(
+        matches!(e, ReadError::TooLarge { what: "file size in bytes", value, .. } if value == limit + 1),
+        "{e:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gltf_external_buffers_share_one_size_limit() {
+    let dir = temp_dir("gltf-total");
+    let mut b = gltf_buffer();
+    b.resize(4096, 0);
+    std::fs::write(dir.join("b.bin"), b).unwrap();
+    // Two buffers naming the same 4096-byte file, the second holding the indices.
+    let doc = gltf_external("b.bin")
+        .replace(
+            "{\"buffer\":0,\"byteOffset\":36",
+            "{\"buffer\":1,\"byteOffset\":36",
+        )
+        .replace(
+            "\"buffers\":[{\"byteLength\":42,\"uri\":\"b.bin\"}]",
+            "\"buffers\":[{\"byteLength\":42,\"uri\":\"b.bin\"},{\"byteLength\":42,\"uri\":\"b.bin\"}]",
+        );
+    std::fs::write(dir.join("m.gltf"), &doc).unwrap();
+    let p = dir.join("m.gltf");
+    assert_eq!(read_path(&p, &Limits::default()).unwrap().faces.len(), 1);
+    // Each file, and the document, is under the limit; the two buffers together are not.
+    assert!(doc.len() < 6000);
+    let limits = Limits {
+        max_bytes: 6000,
+        ..Limits::default()
+    };
+    let e = read_path(&p, &limits).unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ReadError::TooLarge {
+                what: "total size of the external buffers",
+                value: 8192,
+                limit: 6000,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn read_path_refuses_what_is_not_a_regular_file() {
     let dir = temp_dir("read-path-kinds");

@@ -11,13 +11,16 @@
 //!
 //! Not supported (-> [`ReadError::Unsupported`]): sparse accessors, Draco / meshopt
 //! compression and any other required extension that changes geometry, external buffers
-//! when reading from memory.
+//! when reading from memory, and external buffer URIs that are not plain relative paths
+//! inside the `.gltf` file's folder (after percent-decoding: no absolute path, no `..`, no
+//! scheme, drive letter or backslash).
 //!
 //! Every offset, length and stride is checked; the node graph must be acyclic and at most
 //! [`MAX_NODE_DEPTH`] deep, and at most [`MAX_NODE_VISITS`] node instances are expanded.
+//! External buffers must be regular files and together hold at most [`Limits::max_bytes`].
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use glam::{Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
@@ -166,6 +169,7 @@ pub(super) fn read_gltf(
         base,
         bin: None,
         data: Vec::new(),
+        external_bytes: 0,
     }
     .read()
 }
@@ -255,6 +259,7 @@ pub(super) fn read_glb(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError>
         base: None,
         bin,
         data: Vec::new(),
+        external_bytes: 0,
     }
     .read()
 }
@@ -279,6 +284,8 @@ struct Reader<'a> {
     bin: Option<&'a [u8]>,
     /// Loaded buffers, by index.
     data: Vec<Option<std::borrow::Cow<'a, [u8]>>>,
+    /// Bytes read from external buffer files so far.
+    external_bytes: u64,
 }
 
 /// What one accessor holds.
@@ -625,8 +632,8 @@ impl<'a> Reader<'a> {
     fn buffer(&mut self, b: usize) -> Result<&[u8], ReadError> {
         let f = self.f;
         let item = format!("buffers[{b}]");
-        let buf = self
-            .root
+        let root = self.root;
+        let buf = root
             .buffers
             .get(b)
             .ok_or_else(|| self.err(item.clone(), "buffer does not exist"))?;
@@ -665,7 +672,17 @@ impl<'a> Reader<'a> {
                         })?
                         .into()
                 }
-                Some(uri) => self.external(&item, uri)?.into(),
+                Some(uri) => {
+                    let bytes = self.external(&item, uri)?;
+                    self.external_bytes += bytes.len() as u64;
+                    check_limit(
+                        f,
+                        "total size of the external buffers",
+                        self.external_bytes,
+                        self.limits.max_bytes,
+                    )?;
+                    bytes.into()
+                }
             };
             if (data.len() as u64) < buf.byte_length {
                 return Err(self.err(
@@ -690,16 +707,16 @@ impl<'a> Reader<'a> {
                 what: format!("{item}: external buffer `{uri}` (read the file with read_path)"),
             });
         };
-        if uri.contains("://") || uri.starts_with('/') || uri.contains('\\') {
-            return Err(ReadError::Unsupported {
-                format: f,
-                what: format!("{item}: buffer URI `{uri}` is not a relative file path"),
-            });
-        }
-        let path = base.join(percent_decode(uri));
-        let len = std::fs::metadata(&path)?.len();
-        check_limit(f, "external buffer size", len, self.limits.max_bytes)?;
-        Ok(std::fs::read(&path)?)
+        let rel = relative_buffer_path(uri).map_err(|why| ReadError::Unsupported {
+            format: f,
+            what: format!("{item}: buffer URI `{uri}` {why}"),
+        })?;
+        super::read_file(
+            &base.join(rel),
+            f,
+            "external buffer size",
+            self.limits.max_bytes,
+        )
     }
 
     /// Checks accessor `a` against its buffer view and buffer and returns its bytes.
@@ -798,6 +815,34 @@ impl<'a> Reader<'a> {
             normalized: acc.normalized,
         })
     }
+}
+
+/// The path a buffer URI names relative to the `.gltf` file's folder, or why it is refused.
+///
+/// The URI is percent-decoded first, so `%2E%2E/x` or `%2Fetc` are judged as the `../x` and
+/// `/etc` they name. Only plain relative paths are accepted: no root or drive prefix, no `..`
+/// (`.` is harmless), and no `:` (a scheme such as `file:` or a drive letter), `\` or NUL.
+fn relative_buffer_path(uri: &str) -> Result<PathBuf, &'static str> {
+    let decoded = percent_decode(uri);
+    if decoded.contains([':', '\\', '\0']) {
+        return Err("is not a relative file path");
+    }
+    let path = PathBuf::from(decoded);
+    let mut names = 0;
+    for c in path.components() {
+        match c {
+            Component::Normal(_) => names += 1,
+            Component::CurDir => {}
+            Component::ParentDir => return Err("leaves the glTF file's folder (`..`)"),
+            Component::RootDir | Component::Prefix(_) => {
+                return Err("is an absolute path, not relative to the glTF file's folder");
+            }
+        }
+    }
+    if names == 0 {
+        return Err("names no file");
+    }
+    Ok(path)
 }
 
 fn percent_decode(s: &str) -> String {

@@ -140,7 +140,8 @@ impl fmt::Display for Format {
 /// Size limits a reader enforces before allocating.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
-    /// Largest input accepted, in bytes (also bounds each external or `data:` glTF buffer).
+    /// Largest input accepted, in bytes. It also bounds each `data:` glTF buffer, and the
+    /// external buffer files of a `.gltf` document, each and all together.
     pub max_bytes: u64,
     /// Most vertices (points) in the result.
     pub max_vertices: usize,
