@@ -3,10 +3,11 @@
 
 use std::path::{Path, PathBuf};
 use std::sync::mpsc;
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use meshflow::io::{
-    Format, Limits, Location, ReadError, encode_base64, read_bytes, read_path, write_glb,
+    Format, Limits, Location, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, ReadError, encode_base64,
+    read_bytes, read_path, write_glb,
 };
 
 /// Reads `bytes` as `format` and checks the error with `ok`.
@@ -627,4 +628,49 @@ fn read_path_refuses_what_is_not_a_regular_file() {
         }
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn gltf_primitive_instances_are_bounded() {
+    // 2^13 - 1 node instances (well under MAX_NODE_VISITS), the 2^12 leaves sharing one
+    // mesh of 4096 line primitives: 2^24 primitive instances, past MAX_PRIMITIVE_INSTANCES.
+    let levels = 12;
+    let mut nodes: Vec<String> = (0..levels)
+        .map(|i| format!("{{\"children\":[{0},{0}]}}", i + 1))
+        .collect();
+    nodes.push("{\"mesh\":0}".into());
+    let prims = vec!["{\"mode\":1}"; 4096].join(",");
+    let doc = format!(
+        r#"{{"asset":{{"version":"2.0"}},"scene":0,"scenes":[{{"nodes":[0]}}],"nodes":[{}],"meshes":[{{"primitives":[{prims}]}}]}}"#,
+        nodes.join(",")
+    );
+    assert!((1u64 << (levels + 1)) < MAX_NODE_VISITS);
+    assert!((1u64 << levels) * 4096 > MAX_PRIMITIVE_INSTANCES);
+    let start = Instant::now();
+    let e = promptly("shared mesh of many primitives", move || {
+        read_bytes(doc.as_bytes(), Format::Gltf, &Limits::default())
+    })
+    .unwrap_err();
+    assert!(
+        matches!(
+            e,
+            ReadError::TooLarge {
+                what: "primitive instance count",
+                limit: MAX_PRIMITIVE_INSTANCES,
+                ..
+            }
+        ),
+        "{e:?}"
+    );
+    assert!(
+        start.elapsed() < Duration::from_secs(10),
+        "{:?}",
+        start.elapsed()
+    );
+    // Without the sharing the same mesh is read once, and is merely empty (lines only).
+    let once = format!(r#"{{"asset":{{"version":"2.0"}},"meshes":[{{"primitives":[{prims}]}}]}}"#);
+    assert!(matches!(
+        read_bytes(once.as_bytes(), Format::Gltf, &Limits::default()),
+        Err(ReadError::Empty { .. })
+    ));
 }

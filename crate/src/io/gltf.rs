@@ -16,8 +16,9 @@
 //! scheme, drive letter or backslash).
 //!
 //! Every offset, length and stride is checked; the node graph must be acyclic and at most
-//! [`MAX_NODE_DEPTH`] deep, and at most [`MAX_NODE_VISITS`] node instances are expanded.
-//! External buffers must be regular files and together hold at most [`Limits::max_bytes`].
+//! [`MAX_NODE_DEPTH`] deep, at most [`MAX_NODE_VISITS`] node instances are expanded and at
+//! most [`MAX_PRIMITIVE_INSTANCES`] primitive instances are read. External buffers must be
+//! regular files and together hold at most [`Limits::max_bytes`].
 
 use std::collections::BTreeMap;
 use std::path::{Component, Path, PathBuf};
@@ -33,6 +34,10 @@ pub const MAX_NODE_DEPTH: usize = 64;
 /// Most node instances expanded while walking the scene (guards against shared subtrees
 /// that multiply exponentially).
 pub const MAX_NODE_VISITS: u64 = 1 << 20;
+/// Most primitive instances read while walking the scene: every instance of a mesh counts
+/// all its primitives, even those skipped (lines), so that a few node instances of a mesh
+/// with many primitives cannot multiply into unbounded work.
+pub const MAX_PRIMITIVE_INSTANCES: u64 = 1 << 22;
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -363,7 +368,10 @@ struct Out {
     normals: Vec<Vec3>,
     faces: Vec<[u32; 3]>,
     all_have_normals: bool,
+    /// Node instances expanded (see [`MAX_NODE_VISITS`]).
     visits: u64,
+    /// Primitive instances read (see [`MAX_PRIMITIVE_INSTANCES`]).
+    primitive_instances: u64,
 }
 
 impl<'a> Reader<'a> {
@@ -401,6 +409,7 @@ impl<'a> Reader<'a> {
             faces: Vec::new(),
             all_have_normals: true,
             visits: 0,
+            primitive_instances: 0,
         };
         let roots: Vec<usize> = if root.scenes.is_empty() {
             for m in 0..root.meshes.len() {
@@ -492,6 +501,15 @@ impl<'a> Reader<'a> {
             .meshes
             .get(m)
             .ok_or_else(|| err(format!("meshes[{m}]"), "mesh does not exist".into()))?;
+        out.primitive_instances = out
+            .primitive_instances
+            .saturating_add(mesh.primitives.len() as u64);
+        check_limit(
+            f,
+            "primitive instance count",
+            out.primitive_instances,
+            MAX_PRIMITIVE_INSTANCES,
+        )?;
         let normal_m = Mat3::from_mat4(world).inverse().transpose();
         let flip = world.determinant() < 0.0;
         // Identity: keep the stored bits exactly (no -0.0 + 0.0, no renormalising).

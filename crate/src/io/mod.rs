@@ -35,7 +35,7 @@ use glam::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
 pub use base64::encode as encode_base64;
-pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, write_glb};
+pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
 pub use obj::write_obj;
 pub use ply::{MAX_HEADER_BYTES as PLY_MAX_HEADER_BYTES, write_ply};
 
