@@ -169,6 +169,28 @@ fn obj_normals_when_every_corner_has_one() {
 }
 
 #[test]
+fn obj_non_finite_normals_drop_all_normals() {
+    // The module rule: a non-finite normal is not an error; the mesh just gets no normals.
+    let faces = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan 0 0\nf 1//1 2//2 3//1\n";
+    let m = read(faces.as_bytes(), Format::Obj);
+    assert_eq!(m.faces, vec![[0, 1, 2]]);
+    assert!(m.normals.is_empty());
+    let cloud = "v 0 0 0\nv 1 0 0\nvn 0 0 1\nvn 0 -inf 0\n";
+    let m = read(cloud.as_bytes(), Format::Obj);
+    assert_eq!(m.positions.len(), 2);
+    assert!(m.normals.is_empty());
+    // An overflowing literal is an infinity too.
+    let m = read(b"v 0 0 0\nvn 1e39 0 0\n", Format::Obj);
+    assert!(m.normals.is_empty());
+    // A `vn` no vertex takes is simply unused.
+    let unused = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nvn nan nan nan\nf 1//1 2//1 3//1\n";
+    assert_eq!(
+        read(unused.as_bytes(), Format::Obj).normals,
+        vec![Vec3::Z; 3]
+    );
+}
+
+#[test]
 fn obj_point_cloud() {
     let m = read(b"v 1 2 3\nv 4 5 6\nvn 1 0 0\nvn 0 1 0\n", Format::Obj);
     assert!(m.is_point_cloud());

@@ -11,13 +11,17 @@
 //!
 //! Not supported (-> [`ReadError::Unsupported`]): sparse accessors, Draco / meshopt
 //! compression and any other required extension that changes geometry, external buffers
-//! when reading from memory.
+//! when reading from memory, and external buffer URIs that are not plain relative paths
+//! inside the `.gltf` file's folder (after percent-decoding: no absolute path, no `..`, no
+//! scheme, drive letter or backslash).
 //!
 //! Every offset, length and stride is checked; the node graph must be acyclic and at most
-//! [`MAX_NODE_DEPTH`] deep, and at most [`MAX_NODE_VISITS`] node instances are expanded.
+//! [`MAX_NODE_DEPTH`] deep, at most [`MAX_NODE_VISITS`] node instances are expanded and at
+//! most [`MAX_PRIMITIVE_INSTANCES`] primitive instances are read. External buffers must be
+//! regular files and together hold at most [`Limits::max_bytes`].
 
 use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
 use glam::{Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
@@ -30,6 +34,10 @@ pub const MAX_NODE_DEPTH: usize = 64;
 /// Most node instances expanded while walking the scene (guards against shared subtrees
 /// that multiply exponentially).
 pub const MAX_NODE_VISITS: u64 = 1 << 20;
+/// Most primitive instances read while walking the scene: every instance of a mesh counts
+/// all its primitives, even those skipped (lines), so that a few node instances of a mesh
+/// with many primitives cannot multiply into unbounded work.
+pub const MAX_PRIMITIVE_INSTANCES: u64 = 1 << 22;
 
 const GLB_MAGIC: &[u8; 4] = b"glTF";
 const CHUNK_JSON: u32 = 0x4E4F_534A;
@@ -166,6 +174,7 @@ pub(super) fn read_gltf(
         base,
         bin: None,
         data: Vec::new(),
+        external_bytes: 0,
     }
     .read()
 }
@@ -255,6 +264,7 @@ pub(super) fn read_glb(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError>
         base: None,
         bin,
         data: Vec::new(),
+        external_bytes: 0,
     }
     .read()
 }
@@ -279,6 +289,8 @@ struct Reader<'a> {
     bin: Option<&'a [u8]>,
     /// Loaded buffers, by index.
     data: Vec<Option<std::borrow::Cow<'a, [u8]>>>,
+    /// Bytes read from external buffer files so far.
+    external_bytes: u64,
 }
 
 /// What one accessor holds.
@@ -356,7 +368,10 @@ struct Out {
     normals: Vec<Vec3>,
     faces: Vec<[u32; 3]>,
     all_have_normals: bool,
+    /// Node instances expanded (see [`MAX_NODE_VISITS`]).
     visits: u64,
+    /// Primitive instances read (see [`MAX_PRIMITIVE_INSTANCES`]).
+    primitive_instances: u64,
 }
 
 impl<'a> Reader<'a> {
@@ -394,6 +409,7 @@ impl<'a> Reader<'a> {
             faces: Vec::new(),
             all_have_normals: true,
             visits: 0,
+            primitive_instances: 0,
         };
         let roots: Vec<usize> = if root.scenes.is_empty() {
             for m in 0..root.meshes.len() {
@@ -485,6 +501,15 @@ impl<'a> Reader<'a> {
             .meshes
             .get(m)
             .ok_or_else(|| err(format!("meshes[{m}]"), "mesh does not exist".into()))?;
+        out.primitive_instances = out
+            .primitive_instances
+            .saturating_add(mesh.primitives.len() as u64);
+        check_limit(
+            f,
+            "primitive instance count",
+            out.primitive_instances,
+            MAX_PRIMITIVE_INSTANCES,
+        )?;
         let normal_m = Mat3::from_mat4(world).inverse().transpose();
         let flip = world.determinant() < 0.0;
         // Identity: keep the stored bits exactly (no -0.0 + 0.0, no renormalising).
@@ -625,8 +650,8 @@ impl<'a> Reader<'a> {
     fn buffer(&mut self, b: usize) -> Result<&[u8], ReadError> {
         let f = self.f;
         let item = format!("buffers[{b}]");
-        let buf = self
-            .root
+        let root = self.root;
+        let buf = root
             .buffers
             .get(b)
             .ok_or_else(|| self.err(item.clone(), "buffer does not exist"))?;
@@ -665,7 +690,17 @@ impl<'a> Reader<'a> {
                         })?
                         .into()
                 }
-                Some(uri) => self.external(&item, uri)?.into(),
+                Some(uri) => {
+                    let bytes = self.external(&item, uri)?;
+                    self.external_bytes += bytes.len() as u64;
+                    check_limit(
+                        f,
+                        "total size of the external buffers",
+                        self.external_bytes,
+                        self.limits.max_bytes,
+                    )?;
+                    bytes.into()
+                }
             };
             if (data.len() as u64) < buf.byte_length {
                 return Err(self.err(
@@ -690,16 +725,16 @@ impl<'a> Reader<'a> {
                 what: format!("{item}: external buffer `{uri}` (read the file with read_path)"),
             });
         };
-        if uri.contains("://") || uri.starts_with('/') || uri.contains('\\') {
-            return Err(ReadError::Unsupported {
-                format: f,
-                what: format!("{item}: buffer URI `{uri}` is not a relative file path"),
-            });
-        }
-        let path = base.join(percent_decode(uri));
-        let len = std::fs::metadata(&path)?.len();
-        check_limit(f, "external buffer size", len, self.limits.max_bytes)?;
-        Ok(std::fs::read(&path)?)
+        let rel = relative_buffer_path(uri).map_err(|why| ReadError::Unsupported {
+            format: f,
+            what: format!("{item}: buffer URI `{uri}` {why}"),
+        })?;
+        super::read_file(
+            &base.join(rel),
+            f,
+            "external buffer size",
+            self.limits.max_bytes,
+        )
     }
 
     /// Checks accessor `a` against its buffer view and buffer and returns its bytes.
@@ -798,6 +833,34 @@ impl<'a> Reader<'a> {
             normalized: acc.normalized,
         })
     }
+}
+
+/// The path a buffer URI names relative to the `.gltf` file's folder, or why it is refused.
+///
+/// The URI is percent-decoded first, so `%2E%2E/x` or `%2Fetc` are judged as the `../x` and
+/// `/etc` they name. Only plain relative paths are accepted: no root or drive prefix, no `..`
+/// (`.` is harmless), and no `:` (a scheme such as `file:` or a drive letter), `\` or NUL.
+fn relative_buffer_path(uri: &str) -> Result<PathBuf, &'static str> {
+    let decoded = percent_decode(uri);
+    if decoded.contains([':', '\\', '\0']) {
+        return Err("is not a relative file path");
+    }
+    let path = PathBuf::from(decoded);
+    let mut names = 0;
+    for c in path.components() {
+        match c {
+            Component::Normal(_) => names += 1,
+            Component::CurDir => {}
+            Component::ParentDir => return Err("leaves the glTF file's folder (`..`)"),
+            Component::RootDir | Component::Prefix(_) => {
+                return Err("is an absolute path, not relative to the glTF file's folder");
+            }
+        }
+    }
+    if names == 0 {
+        return Err("names no file");
+    }
+    Ok(path)
 }
 
 fn percent_decode(s: &str) -> String {

@@ -17,7 +17,8 @@
 //!   are (cleaning is [`crate::clean`]'s job).
 //! - Normals: a normal whose length is already within 1e-5 of one is kept bit-for-bit, others
 //!   are renormalised; if any normal is zero-length or not finite, *all* normals are dropped
-//!   (the mesh then has none, and [`crate::normals`] can recompute them).
+//!   (the mesh then has none, and [`crate::normals`] can recompute them). A non-finite normal
+//!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
 mod base64;
 mod gltf;
@@ -34,7 +35,7 @@ use glam::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
 pub use base64::encode as encode_base64;
-pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, write_glb};
+pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
 pub use obj::write_obj;
 pub use ply::{MAX_HEADER_BYTES as PLY_MAX_HEADER_BYTES, write_ply};
 
@@ -139,7 +140,8 @@ impl fmt::Display for Format {
 /// Size limits a reader enforces before allocating.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limits {
-    /// Largest input accepted, in bytes (also bounds each external or `data:` glTF buffer).
+    /// Largest input accepted, in bytes. It also bounds each `data:` glTF buffer, and the
+    /// external buffer files of a `.gltf` document, each and all together.
     pub max_bytes: u64,
     /// Most vertices (points) in the result.
     pub max_vertices: usize,
@@ -292,28 +294,22 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
 
 /// Reads a mesh file; the format comes from the extension, else from the content.
 ///
-/// External buffers of a `.gltf` file are resolved relative to the file's folder.
+/// External buffers of a `.gltf` file are resolved relative to the file's folder. `path`
+/// must name a regular file: a directory, device, FIFO or socket is refused, before it is
+/// opened, with a [`ReadError::Io`] that says which it is.
 pub fn read_path(path: &Path, limits: &Limits) -> Result<Mesh, ReadError> {
     let by_ext = Format::from_path(path);
-    // Checked before reading; when the format is not known yet it is reported as a point
-    // list (the catch-all), the limit being the same for every format.
-    let len = std::fs::metadata(path)?.len();
-    check_limit(
+    // When the format is not known yet a size problem is reported as a point list (the
+    // catch-all), the limit being the same for every format.
+    let bytes = read_file(
+        path,
         by_ext.unwrap_or(Format::Points),
         "file size in bytes",
-        len,
         limits.max_bytes,
     )?;
-    let bytes = std::fs::read(path)?;
     let format = by_ext
         .or_else(|| Format::sniff(&bytes))
         .ok_or(ReadError::UnknownFormat)?;
-    check_limit(
-        format,
-        "file size in bytes",
-        bytes.len() as u64,
-        limits.max_bytes,
-    )?;
     match format {
         Format::Gltf => {
             let base = path.parent().unwrap_or(Path::new("."));
@@ -347,6 +343,70 @@ pub fn write_path(mesh: &Mesh, path: &Path) -> Result<(), WriteError> {
 
 // ---------------------------------------------------------------------------------------------
 // Helpers shared by the readers.
+
+/// Reads the regular file at `path`, refusing more than `limit` bytes ([`ReadError::TooLarge`]
+/// naming `what`).
+///
+/// Anything else (a directory, a device such as `/dev/zero`, a FIFO, a socket) is refused
+/// before it is opened, with an [`ReadError::Io`] error that says what the path is. The
+/// size in the metadata is only a first check: at most `limit + 1` bytes are read, so a file
+/// that grows, or whose reported size is wrong (as in `/proc`), cannot exceed the limit.
+pub(crate) fn read_file(
+    path: &Path,
+    format: Format,
+    what: &'static str,
+    limit: u64,
+) -> Result<Vec<u8>, ReadError> {
+    use std::io::Read;
+    let meta = std::fs::metadata(path)?;
+    not_regular(path, &meta)?;
+    check_limit(format, what, meta.len(), limit)?;
+    let file = std::fs::File::open(path)?;
+    // The path may have been replaced between the two looks; check what was opened.
+    not_regular(path, &file.metadata()?)?;
+    let mut bytes = Vec::new();
+    file.take(limit.saturating_add(1)).read_to_end(&mut bytes)?;
+    check_limit(format, what, bytes.len() as u64, limit)?;
+    Ok(bytes)
+}
+
+/// An error naming what `path` is, unless it is a regular file.
+fn not_regular(path: &Path, meta: &std::fs::Metadata) -> Result<(), ReadError> {
+    let t = meta.file_type();
+    if t.is_file() {
+        return Ok(());
+    }
+    let (kind, what) = if t.is_dir() {
+        (std::io::ErrorKind::IsADirectory, "a directory")
+    } else {
+        (std::io::ErrorKind::InvalidInput, special_kind(&t))
+    };
+    Err(ReadError::Io(std::io::Error::new(
+        kind,
+        format!("`{}` is {what}, not a regular file", path.display()),
+    )))
+}
+
+#[cfg(unix)]
+fn special_kind(t: &std::fs::FileType) -> &'static str {
+    use std::os::unix::fs::FileTypeExt;
+    if t.is_char_device() {
+        "a character device"
+    } else if t.is_block_device() {
+        "a block device"
+    } else if t.is_fifo() {
+        "a FIFO (named pipe)"
+    } else if t.is_socket() {
+        "a socket"
+    } else {
+        "a special file"
+    }
+}
+
+#[cfg(not(unix))]
+fn special_kind(_: &std::fs::FileType) -> &'static str {
+    "a special file"
+}
 
 pub(crate) fn check_limit(
     format: Format,

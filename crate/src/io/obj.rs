@@ -9,7 +9,9 @@
 //! `i` takes the normal of the first corner that uses it; a vertex no face uses takes `vn`
 //! number `i` when there are exactly as many `vn` as `v`, else the file gets no normals. If
 //! some corner has no normal, the file gets no normals. A file without faces whose `vn`
-//! count equals its `v` count pairs them in order (a point cloud with normals).
+//! count equals its `v` count pairs them in order (a point cloud with normals). A `vn`
+//! with a NaN or infinite component is read (it is not an error, unlike such a `v`); if it
+//! becomes the normal of a vertex, the file gets no normals, as in every reader.
 
 use std::fmt::Write as _;
 
@@ -44,12 +46,13 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
         };
         match keyword {
             "v" => {
-                let p = parse_vec3(&mut tokens, line_no)?;
+                let p = parse_vec3(&mut tokens, line_no, true)?;
                 check_limit(F, "vertex count", positions.len() as u64 + 1, vmax)?;
                 positions.push(p);
             }
             "vn" => {
-                let n = parse_vec3(&mut tokens, line_no)?;
+                // Not required finite: the shared normals rule drops them all instead.
+                let n = parse_vec3(&mut tokens, line_no, false)?;
                 check_limit(F, "normal count", vn.len() as u64 + 1, vmax)?;
                 vn.push(n);
             }
@@ -140,9 +143,11 @@ fn deindex_normals(
     normals
 }
 
+/// Three numbers; with `finite`, NaN and infinities are [`ReadError::NonFinite`].
 fn parse_vec3<'a>(
     tokens: &mut impl Iterator<Item = &'a str>,
     line: usize,
+    finite: bool,
 ) -> Result<Vec3, ReadError> {
     let mut v = [0f32; 3];
     for c in &mut v {
@@ -152,7 +157,7 @@ fn parse_vec3<'a>(
         *c = tok
             .parse::<f32>()
             .map_err(|_| malformed(F, Location::Line(line), format!("`{tok}` is not a number")))?;
-        if !c.is_finite() {
+        if finite && !c.is_finite() {
             return Err(ReadError::NonFinite {
                 format: F,
                 location: Location::Line(line),
