@@ -23,7 +23,8 @@
 //!    the faces remapped). Not for point clouds: an input without faces is only welded.
 //!
 //! Normals, when present, follow their vertices. Everything is deterministic and `O(n)`
-//! expected time (hash maps), a 10k-vertex mesh takes milliseconds. Positions must be finite
+//! expected time for well-spread points (hash maps; a 10k-vertex mesh takes milliseconds);
+//! many distinct points crowded within one weld cell are compared pairwise. Positions must be finite
 //! ([`Mesh::validate`]); face indices out of range panic.
 //!
 //! Cleaning is idempotent: the kept representatives of different classes are more than the
@@ -110,7 +111,15 @@ pub fn weld_map(positions: &[Vec3], distance: f32) -> (Vec<u32>, usize) {
         let tol = distance as f64;
         let cell = 2.0 * tol;
         let tol2 = tol * tol;
-        let key = |p: DVec3| -> [i64; 3] { (p / cell).floor().to_array().map(|c| c as i64) };
+        // Clamped so that neighbouring-cell arithmetic cannot overflow for a tiny tolerance;
+        // far-apart points sharing a clamped cell are still compared by real distance.
+        const KEY_LIMIT: f64 = (1u64 << 52) as f64;
+        let key = |p: DVec3| -> [i64; 3] {
+            (p / cell)
+                .floor()
+                .to_array()
+                .map(|c| c.clamp(-KEY_LIMIT, KEY_LIMIT) as i64)
+        };
         let mut cells: HashMap<[i64; 3], Vec<u32>> = HashMap::with_capacity(unique.len());
         for &i in &unique {
             let p = positions[i as usize].as_dvec3();
@@ -252,6 +261,19 @@ mod tests {
             out.faces.push([base, base + 1, base + 2]);
         }
         out
+    }
+
+    #[test]
+    fn tiny_tolerance_with_huge_coordinates_does_not_overflow() {
+        let positions = [
+            Vec3::splat(3e38),
+            Vec3::splat(-3e38),
+            Vec3::splat(3e38),
+            Vec3::ZERO,
+        ];
+        let (class, count) = weld_map(&positions, f32::MIN_POSITIVE);
+        assert_eq!(count, 3);
+        assert_eq!(class[0], class[2]);
     }
 
     #[test]

@@ -20,7 +20,7 @@ use crate::Mesh;
 use crate::mesh::MeshError;
 use crate::normalize::Normalization;
 use crate::rng::Rng;
-use crate::sample::{SampleError, sample_surface, subsample_indices};
+use crate::sample::{MAX_SAMPLES, SampleError, sample_surface, subsample_indices};
 pub use crate::topology::TopologyReport;
 
 /// Why a metric cannot be computed.
@@ -295,6 +295,15 @@ pub fn compare_meshes(
 ) -> Result<Comparison, MetricsError> {
     if opts.samples == 0 {
         return Err(MetricsError::ZeroSamples);
+    }
+    if opts.samples > MAX_SAMPLES {
+        let source = SampleError::TooMany {
+            count: opts.samples,
+        };
+        return Err(MetricsError::Sample {
+            which: "predicted",
+            source,
+        });
     }
     for (mesh, which) in [(pred, "predicted"), (gt, "ground-truth")] {
         mesh.validate()

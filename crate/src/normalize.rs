@@ -24,15 +24,17 @@ impl Normalization {
     /// Maps `aabb`'s centre to the origin and its longest side to length `2 * half_extent`.
     /// A box of zero size (a single point) only gets translated.
     pub fn fit(aabb: Aabb, half_extent: f32) -> Self {
-        let longest = aabb.max_extent();
+        // In f64: for coordinates near f32::MAX the f32 sum and extent overflow.
+        let (min, max) = (aabb.min.as_dvec3(), aabb.max.as_dvec3());
+        let longest = (max - min).max_element();
         let scale = if longest > 0.0 {
-            2.0 * half_extent / longest
+            2.0 * half_extent as f64 / longest
         } else {
             1.0
         };
         Normalization {
-            center: aabb.center(),
-            scale,
+            center: ((min + max) * 0.5).as_vec3(),
+            scale: scale as f32,
         }
     }
 
@@ -47,7 +49,8 @@ impl Normalization {
     }
 
     pub fn apply(&self, p: Vec3) -> Vec3 {
-        (p - self.center) * self.scale
+        // In f64 for the same reason: p - center can exceed f32::MAX before scaling.
+        ((p.as_dvec3() - self.center.as_dvec3()) * self.scale as f64).as_vec3()
     }
 
     pub fn invert(&self, p: Vec3) -> Vec3 {
@@ -93,6 +96,13 @@ mod tests {
             assert!((n.invert(n.apply(p)) - p).length() < 1e-5);
             assert!((n.inverse().apply(n.apply(p)) - p).length() < 1e-5);
         }
+        let huge = Aabb {
+            min: Vec3::splat(-3e38),
+            max: Vec3::splat(3e38),
+        };
+        let n = Normalization::to_model_frame(huge);
+        assert!((n.apply(huge.max) - Vec3::ONE).abs().max_element() < 1e-6);
+        assert!((n.apply(huge.min) + Vec3::ONE).abs().max_element() < 1e-6);
         let single = Normalization::to_model_frame(Aabb {
             min: Vec3::ONE,
             max: Vec3::ONE,

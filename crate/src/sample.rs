@@ -33,6 +33,10 @@ impl SurfaceSamples {
     }
 }
 
+/// The most samples one call may ask for (the readers' vertex limit, 16 Mi): a larger request
+/// is an error rather than an allocation that cannot succeed.
+pub const MAX_SAMPLES: usize = 1 << 24;
+
 /// Why a surface cannot be sampled.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 pub enum SampleError {
@@ -52,6 +56,8 @@ pub enum SampleError {
     },
     #[error("cannot sample a surface: the total area is not finite (non-finite coordinates)")]
     NonFiniteArea,
+    #[error("{count} samples asked for; at most {MAX_SAMPLES} are allowed")]
+    TooMany { count: usize },
 }
 
 fn dvec(p: Vec3) -> DVec3 {
@@ -77,6 +83,9 @@ fn norm(a: DVec3) -> f64 {
 /// [`subsample_points`]), when the total area is zero or not finite, or when a face index is out
 /// of range. `count == 0` gives empty samples (after the same checks).
 pub fn sample_surface(mesh: &Mesh, count: usize, seed: u64) -> Result<SurfaceSamples, SampleError> {
+    if count > MAX_SAMPLES {
+        return Err(SampleError::TooMany { count });
+    }
     if mesh.faces.is_empty() {
         return Err(SampleError::NoFaces {
             vertices: mesh.positions.len(),

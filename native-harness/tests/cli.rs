@@ -182,15 +182,18 @@ fn bad_input_is_one_line_and_status_2() {
         1,
         "the cause is printed once: {stderr}"
     );
-    let none = meshflow(&[
-        "sample",
-        fixture("meshes/bread.obj").to_str().unwrap(),
-        "-n",
-        "0",
-        "-o",
-        "x.ply",
-    ]);
-    assert_eq!(none.status.code(), Some(2));
+    let bread = fixture("meshes/bread.obj");
+    let bread = bread.to_str().unwrap();
+    for args in [
+        &["sample", bread, "-n", "0", "-o", "x.ply"][..],
+        &["sample", bread, "-n", "99999999999", "-o", "x.ply"],
+        &["compare", bread, bread, "--samples", "99999999999"],
+        &["convert", bread, "x.fbx"],
+    ] {
+        let out = meshflow(args);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{args:?}: {stderr}");
+    }
     let points = fixture("points/stone_lantern_2048.ply");
     let out = meshflow(&[
         "sample",
