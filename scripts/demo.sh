@@ -5,8 +5,8 @@
 # fixture mesh (default: the CC0 stone lantern) runs
 #   inspect  -> mesh statistics
 #   sample   -> 8,192-point PLY point cloud
-#   extract  -> mesh -> points -> mesh round trip, scored against the mesh's
-#               own (ground-truth) adjacency
+#   extract  -> the mesh's own adjacency in token order -> Algorithm 1 ->
+#               faces, reporting what was lost, added or flipped
 #   convert  -> binary glTF (.glb)
 #   compare  -> the .glb against the original mesh
 # Output files go to $MESHFLOW_DEMO_OUT if set, else a fresh temporary

@@ -219,30 +219,12 @@ pub fn clean(mesh: &Mesh, opts: &CleanOptions) -> (Mesh, CleanReport) {
             Entry::Occupied(_) => report.back_to_back_faces += 1,
         }
     }
-    // Compact the referenced vertices in their relative order.
-    let n = welded.positions.len();
-    let mut used = vec![false; n];
-    for f in &faces {
-        for &v in f {
-            used[v as usize] = true;
-        }
-    }
-    let mut remap = vec![u32::MAX; n];
-    let mut out = Mesh::default();
-    for v in 0..n {
-        if used[v] {
-            remap[v] = out.positions.len() as u32;
-            out.positions.push(welded.positions[v]);
-            if !welded.normals.is_empty() {
-                out.normals.push(welded.normals[v]);
-            }
-        }
-    }
-    report.unreferenced_vertices = n - out.positions.len();
-    out.faces = faces
-        .into_iter()
-        .map(|f| f.map(|v| remap[v as usize]))
-        .collect();
+    let mut out = Mesh {
+        positions: welded.positions,
+        normals: welded.normals,
+        faces,
+    };
+    report.unreferenced_vertices = out.remove_unreferenced_vertices();
     (out, report)
 }
 

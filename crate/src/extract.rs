@@ -24,7 +24,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::topology::{Edge, EdgeIncidence, boundary_loops, sorted_face};
+use crate::topology::{self, Edge, EdgeIncidence, boundary_loops, sorted_face};
 
 /// The paper's edge threshold on the spacetime distance.
 pub const TAU: f32 = 0.6;
@@ -304,24 +304,20 @@ fn threshold_rows_any(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
     }
 }
 
-/// Normalises a messy edge list: (min, max) pairs, self-loops and duplicates dropped, sorted.
+/// Normalises a messy edge list ([`crate::topology::canonical_edges`]) after checking that
+/// every edge names one of `num_vertices` vertices.
 pub fn canonical_edges(edges: &[Edge], num_vertices: usize) -> Result<Vec<Edge>, ExtractError> {
-    let mut out = Vec::with_capacity(edges.len());
-    for &[a, b] in edges {
-        if a as usize >= num_vertices || b as usize >= num_vertices {
-            return Err(ExtractError::EdgeOutOfRange {
-                a,
-                b,
-                vertices: num_vertices,
-            });
-        }
-        if a != b {
-            out.push([a.min(b), a.max(b)]);
-        }
+    if let Some(&[a, b]) = edges
+        .iter()
+        .find(|e| e.iter().any(|&v| v as usize >= num_vertices))
+    {
+        return Err(ExtractError::EdgeOutOfRange {
+            a,
+            b,
+            vertices: num_vertices,
+        });
     }
-    out.sort_unstable();
-    out.dedup();
-    Ok(out)
+    Ok(topology::canonical_edges(edges))
 }
 
 /// Every 3-clique (a < b < c) of a canonical edge list, sorted lexicographically.
@@ -482,7 +478,7 @@ pub fn extract_mesh(
         faces,
     };
     if opts.compact {
-        report.unreferenced_vertices_removed = compact(&mut mesh);
+        report.unreferenced_vertices_removed = mesh.remove_unreferenced_vertices();
     }
     report.faces = mesh.faces.len();
     Ok((mesh, report))
@@ -539,38 +535,6 @@ fn drop_non_manifold_faces(
         .zip(keep)
         .filter_map(|(f, k)| k.then_some(f))
         .collect()
-}
-
-/// Removes vertices no face uses, renumbering the rest in their original order.
-/// Returns how many were removed.
-pub fn compact(mesh: &mut Mesh) -> usize {
-    let n = mesh.positions.len();
-    let mut new_index = vec![u32::MAX; n];
-    for f in &mesh.faces {
-        for &v in f {
-            new_index[v as usize] = 0;
-        }
-    }
-    let mut next = 0u32;
-    for slot in new_index.iter_mut().filter(|s| **s == 0) {
-        *slot = next;
-        next += 1;
-    }
-    let keep = |i: usize| new_index[i] != u32::MAX;
-    mesh.positions = (0..n)
-        .filter(|&i| keep(i))
-        .map(|i| mesh.positions[i])
-        .collect();
-    if !mesh.normals.is_empty() {
-        mesh.normals = (0..n)
-            .filter(|&i| keep(i))
-            .map(|i| mesh.normals[i])
-            .collect();
-    }
-    for f in &mut mesh.faces {
-        *f = f.map(|v| new_index[v as usize]);
-    }
-    n - next as usize
 }
 
 /// The decoder's per-vertex outputs, row-major, for one mesh.

@@ -89,6 +89,32 @@ impl Mesh {
         self.faces[f].map(|i| self.positions[i as usize])
     }
 
+    /// Removes the vertices no face uses, renumbering the rest in their original order
+    /// (normals follow). Returns how many were removed.
+    pub fn remove_unreferenced_vertices(&mut self) -> usize {
+        let n = self.positions.len();
+        let mut new_index = vec![u32::MAX; n];
+        for f in &self.faces {
+            for &v in f {
+                new_index[v as usize] = 0;
+            }
+        }
+        let mut next = 0u32;
+        for slot in new_index.iter_mut().filter(|s| **s == 0) {
+            *slot = next;
+            next += 1;
+        }
+        let keep = |i: &usize| new_index[*i] != u32::MAX;
+        self.positions = (0..n).filter(keep).map(|i| self.positions[i]).collect();
+        if !self.normals.is_empty() {
+            self.normals = (0..n).filter(keep).map(|i| self.normals[i]).collect();
+        }
+        for f in &mut self.faces {
+            *f = f.map(|v| new_index[v as usize]);
+        }
+        n - next as usize
+    }
+
     /// Total surface area.
     pub fn area(&self) -> f64 {
         // Folded from +0.0: an empty f64 sum is -0.0, which prints as "-0".
@@ -159,6 +185,19 @@ mod tests {
         m.normals.clear();
         m.positions[1].x = f32::NAN;
         assert_eq!(m.validate(), Err(MeshError::NonFinite { vertex: 1 }));
+    }
+
+    #[test]
+    fn unreferenced_vertices_are_removed_in_order() {
+        let mut m = Mesh::new(
+            vec![Vec3::ZERO, Vec3::ONE, Vec3::X, Vec3::Y, Vec3::Z],
+            vec![[0, 2, 4]],
+        );
+        m.normals = vec![Vec3::Z; 5];
+        assert_eq!(m.remove_unreferenced_vertices(), 2);
+        assert_eq!(m.positions, vec![Vec3::ZERO, Vec3::X, Vec3::Z]);
+        assert_eq!((m.faces.clone(), m.normals.len()), (vec![[0, 1, 2]], 3));
+        assert_eq!(m.validate(), Ok(()));
     }
 
     #[test]

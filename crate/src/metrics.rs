@@ -366,17 +366,6 @@ pub struct EdgeScores {
     pub actual: usize,
 }
 
-fn edge_set(edges: &[[u32; 2]]) -> Vec<[u32; 2]> {
-    let mut set: Vec<[u32; 2]> = edges
-        .iter()
-        .filter(|[i, j]| i != j)
-        .map(|&[i, j]| [i.min(j), i.max(j)])
-        .collect();
-    set.sort_unstable();
-    set.dedup();
-    set
-}
-
 /// Scores `predicted` edges against `actual` ones as undirected sets: each pair is normalised to
 /// `i < j`, duplicates count once and self-loops `[i, i]` are ignored.
 ///
@@ -385,8 +374,8 @@ fn edge_set(edges: &[[u32; 2]]) -> Vec<[u32; 2]> {
 /// `P + R = 0`. So two empty sets score 1, 1, 1 and one empty set against a non-empty one
 /// scores F1 = 0.
 pub fn edge_scores(predicted: &[[u32; 2]], actual: &[[u32; 2]]) -> EdgeScores {
-    let p = edge_set(predicted);
-    let a = edge_set(actual);
+    let p = crate::topology::canonical_edges(predicted);
+    let a = crate::topology::canonical_edges(actual);
     let true_positives = p.iter().filter(|e| a.binary_search(e).is_ok()).count();
     let both_empty = p.is_empty() && a.is_empty();
     let ratio = |num: usize, den: usize| {

@@ -53,10 +53,6 @@ impl Normalization {
         ((p.as_dvec3() - self.center.as_dvec3()) * self.scale as f64).as_vec3()
     }
 
-    pub fn invert(&self, p: Vec3) -> Vec3 {
-        p / self.scale + self.center
-    }
-
     /// The inverse transform.
     pub fn inverse(&self) -> Normalization {
         // (p / s + c) = (p - (-c s)) * (1 / s)
@@ -93,7 +89,6 @@ mod tests {
         let half = Normalization::to_metric_frame(m.aabb().unwrap());
         assert!((half.apply_mesh(&m).aabb().unwrap().max_extent() - 1.0).abs() < 1e-6);
         for &p in &m.positions {
-            assert!((n.invert(n.apply(p)) - p).length() < 1e-5);
             assert!((n.inverse().apply(n.apply(p)) - p).length() < 1e-5);
         }
         let huge = Aabb {

@@ -103,6 +103,19 @@ pub fn rotate_min_first([a, b, c]: [u32; 3]) -> [u32; 3] {
     }
 }
 
+/// An undirected edge list made canonical: each pair as (min, max), self-loops dropped,
+/// duplicates merged, sorted.
+pub fn canonical_edges(edges: &[Edge]) -> Vec<Edge> {
+    let mut out: Vec<Edge> = edges
+        .iter()
+        .filter(|e| e[0] != e[1])
+        .map(|&[a, b]| sorted(a, b))
+        .collect();
+    out.sort_unstable();
+    out.dedup();
+    out
+}
+
 /// True unless the face repeats a vertex.
 pub fn has_three_vertices(&[a, b, c]: &[u32; 3]) -> bool {
     a != b && b != c && a != c
