@@ -39,6 +39,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::disjoint_sets::DisjointSets;
+use crate::topology::{DEGENERATE_TOLERANCE, is_degenerate};
 
 /// Tunables of [`clean`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -55,7 +56,7 @@ impl Default for CleanOptions {
     fn default() -> Self {
         Self {
             weld_tolerance: 1e-6,
-            degenerate_tolerance: 1e-10,
+            degenerate_tolerance: DEGENERATE_TOLERANCE,
         }
     }
 }
@@ -195,17 +196,11 @@ pub fn clean(mesh: &Mesh, opts: &CleanOptions) -> (Mesh, CleanReport) {
     if mesh.faces.is_empty() {
         return (welded, report);
     }
-    let area_eps = opts.degenerate_tolerance * scale * scale;
+
     let mut seen: HashMap<[u32; 3], bool> = HashMap::with_capacity(welded.faces.len());
     let mut faces = Vec::with_capacity(welded.faces.len());
     for &f in &welded.faces {
-        let [a, b, c] = f;
-        if a == b || b == c || a == c {
-            report.degenerate_faces += 1;
-            continue;
-        }
-        let [p, q, r] = f.map(|i| welded.positions[i as usize]);
-        if (q - p).cross(r - p).length() <= area_eps {
+        if is_degenerate(&welded.positions, f, scale, opts.degenerate_tolerance) {
             report.degenerate_faces += 1;
             continue;
         }

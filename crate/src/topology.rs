@@ -1,6 +1,7 @@
 //! Connectivity of a triangle mesh: edges, adjacency, boundary loops, components, and the
 //! topology report that every generated mesh is judged by (DESIGN.md section 3).
 
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
@@ -248,14 +249,18 @@ pub fn components(num_vertices: usize, faces: &[[u32; 3]]) -> (Vec<u32>, usize) 
     sets.labels(|v| used[v])
 }
 
-/// True when the triangle has a repeated vertex or (numerically) no area. `scale` is the mesh's
-/// largest bounding-box side; the area test is relative to it so units do not matter.
-pub fn is_degenerate(mesh: &Mesh, face: usize, scale: f32) -> bool {
-    if !has_three_vertices(&mesh.faces[face]) {
+/// The default of [`is_degenerate`]'s area tolerance, relative to the squared longest side of
+/// the bounding box (so units do not matter).
+pub const DEGENERATE_TOLERANCE: f32 = 1e-10;
+
+/// True when the triangle has a repeated vertex or (numerically) no area: twice its area is at
+/// most `tolerance * scale^2`, with `scale` the mesh's longest bounding-box side.
+pub fn is_degenerate(positions: &[Vec3], face: [u32; 3], scale: f32, tolerance: f32) -> bool {
+    if !has_three_vertices(&face) {
         return true;
     }
-    let [p, q, r] = mesh.triangle(face);
-    (q - p).cross(r - p).length() <= 1e-10 * scale * scale
+    let [p, q, r] = face.map(|i| positions[i as usize]);
+    (q - p).cross(r - p).length() <= tolerance * scale * scale
 }
 
 /// The topology figures DESIGN.md section 3 asks for, for any mesh.
@@ -300,8 +305,8 @@ impl TopologyReport {
         }
         report.holes = edge_loops(&inc.boundary_edges()).len();
         let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
-        report.degenerate_faces = (0..mesh.faces.len())
-            .filter(|&f| is_degenerate(mesh, f, scale))
+        report.degenerate_faces = (mesh.faces.iter())
+            .filter(|&&f| is_degenerate(&mesh.positions, f, scale, DEGENERATE_TOLERANCE))
             .count();
         let (labels, count) = components(mesh.positions.len(), &mesh.faces);
         report.components = count;

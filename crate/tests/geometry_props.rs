@@ -82,7 +82,9 @@ proptest! {
         let scale = m.aabb().unwrap().max_extent();
         // Non-degenerate faces only (degenerate ones would be dropped by cleaning).
         let faces: Vec<[u32; 3]> = (0..m.faces.len())
-            .filter(|&f| !topology::is_degenerate(&m, f, scale))
+            .filter(|&f| {
+                !topology::is_degenerate(&m.positions, m.faces[f], scale, topology::DEGENERATE_TOLERANCE)
+            })
             .map(|f| m.faces[f])
             .collect();
         for n in vertex_normals(&m.positions, &faces) {
