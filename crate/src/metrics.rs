@@ -242,17 +242,22 @@ fn side_samples(
     }
 }
 
+/// The harmonic mean of precision and recall, 0 when both are 0.
+fn f1_of(precision: f64, recall: f64) -> f64 {
+    if precision + recall > 0.0 {
+        2.0 * precision * recall / (precision + recall)
+    } else {
+        0.0
+    }
+}
+
 fn f_score(m: &Matching, threshold: f64) -> FScore {
     let within = |nn: &[(u32, f64)]| {
         nn.iter().filter(|&&(_, d)| d <= threshold).count() as f64 / nn.len() as f64
     };
     let precision = within(&m.a_to_b);
     let recall = within(&m.b_to_a);
-    let f_score = if precision + recall > 0.0 {
-        2.0 * precision * recall / (precision + recall)
-    } else {
-        0.0
-    };
+    let f_score = f1_of(precision, recall);
     FScore {
         threshold,
         precision,
@@ -389,11 +394,7 @@ pub fn edge_scores(predicted: &[[u32; 2]], actual: &[[u32; 2]]) -> EdgeScores {
     };
     let precision = ratio(true_positives, p.len());
     let recall = ratio(true_positives, a.len());
-    let f1 = if precision + recall > 0.0 {
-        2.0 * precision * recall / (precision + recall)
-    } else {
-        0.0
-    };
+    let f1 = f1_of(precision, recall);
     EdgeScores {
         precision,
         recall,
