@@ -9,6 +9,10 @@
 //! Versions 1 to 4 are accepted with this layout; every file of the 0 A.D. 0.0.26 data is
 //! version 4. The declared data size must fit in the file; bytes past it are ignored. The
 //! per-vertex normals are kept (see the module rules on normals).
+//!
+//! 0 A.D. winds its triangles clockwise around the stored normals (199 of 200 files sampled
+//! from the 0.0.26 data); each triangle is reversed so that, as everywhere in meshflow, faces
+//! wind counter-clockwise seen from the side their normal points to.
 
 use super::{
     Cursor, Format, Limits, ReadError, bad_vertex_index, check_limit, finish, vertex_limit,
@@ -71,7 +75,7 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
             }
             *slot = i;
         }
-        faces.push(f);
+        faces.push([f[0], f[2], f[1]]);
     }
     finish(F, positions, normals, faces)
 }
@@ -107,6 +111,6 @@ mod tests {
         let m = read(&tri(), &Limits::default()).unwrap();
         assert_eq!(m.positions.len(), 3);
         assert_eq!(m.normals.len(), 3);
-        assert_eq!(m.faces, vec![[0, 1, 2]]);
+        assert_eq!(m.faces, vec![[0, 2, 1]]);
     }
 }
