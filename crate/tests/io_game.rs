@@ -464,6 +464,7 @@ fn pie_bad_inputs() {
         "cut in the texture coordinates", format!("{head}{pts}POLYGONS 1\n 200 3 0 1 2 0 0 1") => ReadError::Truncated { .. },
         "cut before POLYGONS", format!("{head}{pts}") => ReadError::Malformed { location: Location::Line(4), .. },
         "point count 0xFFFFFFFF", format!("{head}POINTS 4294967295\n") => ReadError::TooLarge { .. },
+        "point count u64::MAX", format!("{head}POINTS 18446744073709551615\n") => ReadError::TooLarge { .. },
         "polygon count 0xFFFFFFFF", format!("{head}{pts}POLYGONS 4294967295\n") => ReadError::TooLarge { .. },
         "negative point count", format!("{head}POINTS -3\n") => ReadError::Malformed { location: Location::Line(6), .. },
         "bad coordinate", format!("{head}POINTS 3\n 0 0 0\n 1 x 0\n 0 1 0\n") => ReadError::Malformed { location: Location::Line(8), .. },

@@ -220,7 +220,12 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                     ));
                 }
                 let n = t.count("POINTS")?;
-                check_limit(F, "vertex count", positions.len() as u64 + n, max_vertices)?;
+                check_limit(
+                    F,
+                    "vertex count",
+                    (positions.len() as u64).saturating_add(n),
+                    max_vertices,
+                )?;
                 t.line_ends("the point count")?;
                 base = positions.len();
                 level_points = n as usize;
