@@ -1,7 +1,8 @@
 //! Mesh and point-cloud readers and writers.
 //!
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
-//! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT).
+//! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
+//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II) and PIE (Warzone 2100).
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -22,9 +23,13 @@
 
 mod base64;
 mod gltf;
+mod md2;
 mod obj;
+mod pie;
 mod ply;
+mod pmd;
 mod points;
+mod spm;
 mod stl;
 
 use std::fmt;
@@ -51,17 +56,29 @@ pub enum Format {
     Glb,
     /// A plain list of points, one per line (`.xyz`, `.pts`, `.csv`, `.txt`).
     Points,
+    /// 0 A.D. model (`.pmd`).
+    Pmd,
+    /// SuperTuxKart mesh (`.spm`).
+    Spm,
+    /// Quake II model (`.md2`), first frame.
+    Md2,
+    /// Warzone 2100 model (`.pie`, text).
+    Pie,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 6] = [
+    pub const ALL: [Format; 10] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
         Format::Gltf,
         Format::Glb,
         Format::Points,
+        Format::Pmd,
+        Format::Spm,
+        Format::Md2,
+        Format::Pie,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -74,13 +91,18 @@ impl Format {
             "gltf" => Format::Gltf,
             "glb" => Format::Glb,
             "xyz" | "pts" | "csv" | "txt" => Format::Points,
+            "pmd" => Format::Pmd,
+            "spm" => Format::Spm,
+            "md2" => Format::Md2,
+            "pie" => Format::Pie,
             _ => return None,
         })
     }
 
     /// Guesses the format from the first bytes of a file.
     ///
-    /// Magic numbers first (`glTF`, `ply`), then a JSON object (glTF), an STL (`solid` or a
+    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `SP` with a known version byte),
+    /// then a JSON object (glTF), a `PIE ` header, an STL (`solid` or a
     /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
     /// keywords, at least one `v`), and finally a list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
@@ -89,6 +111,15 @@ impl Format {
         }
         if bytes.starts_with(b"ply\n") || bytes.starts_with(b"ply\r") {
             return Some(Format::Ply);
+        }
+        if bytes.starts_with(b"PSMD") {
+            return Some(Format::Pmd);
+        }
+        if bytes.starts_with(b"IDP2") {
+            return Some(Format::Md2);
+        }
+        if spm::magic_matches(bytes) {
+            return Some(Format::Spm);
         }
         if stl::binary_size_matches(bytes) {
             return Some(Format::Stl);
@@ -105,6 +136,9 @@ impl Format {
         let text = text.trim_start_matches('\u{feff}').trim_start();
         if text.starts_with('{') {
             return Some(Format::Gltf);
+        }
+        if text.starts_with("PIE ") {
+            return Some(Format::Pie);
         }
         if text.starts_with("solid") {
             return Some(Format::Stl);
@@ -127,6 +161,10 @@ impl Format {
             Format::Gltf => "glTF",
             Format::Glb => "GLB",
             Format::Points => "point list",
+            Format::Pmd => "PMD",
+            Format::Spm => "SPM",
+            Format::Md2 => "MD2",
+            Format::Pie => "PIE",
         }
     }
 }
@@ -231,7 +269,9 @@ pub enum ReadError {
     Empty { format: Format },
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
-    #[error("unrecognised file format (expected OBJ, PLY, STL, glTF, GLB or a point list)")]
+    #[error(
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, PIE or a point list)"
+    )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
     InvalidUtf8 { format: Format, offset: u64 },
@@ -289,6 +329,10 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Gltf => gltf::read_gltf(bytes, limits, None),
         Format::Glb => gltf::read_glb(bytes, limits),
         Format::Points => points::read(bytes, limits),
+        Format::Pmd => pmd::read(bytes, limits),
+        Format::Spm => spm::read(bytes, limits),
+        Format::Md2 => md2::read(bytes, limits),
+        Format::Pie => pie::read(bytes, limits),
     }
 }
 
@@ -514,4 +558,114 @@ pub(crate) fn push_fan(
 /// The vertex limit as a `u64`, capped so that indices fit in `u32`.
 pub(crate) fn vertex_limit(limits: &Limits) -> u64 {
     (limits.max_vertices as u64).min(u32::MAX as u64)
+}
+
+/// A bounds-checked little-endian reader over untrusted bytes, for the binary game formats.
+///
+/// Running past the end is [`ReadError::Truncated`], with `offset` the input's length (where
+/// the data ends) and `expected` how many more bytes were needed.
+pub(crate) struct Cursor<'a> {
+    format: Format,
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl<'a> Cursor<'a> {
+    pub(crate) fn new(format: Format, bytes: &'a [u8]) -> Self {
+        Cursor {
+            format,
+            bytes,
+            pos: 0,
+        }
+    }
+
+    /// The offset of the next byte to read.
+    pub(crate) fn pos(&self) -> u64 {
+        self.pos as u64
+    }
+
+    pub(crate) fn remaining(&self) -> u64 {
+        (self.bytes.len() - self.pos) as u64
+    }
+
+    /// Fails with `Truncated` unless `n` more bytes are present (`n` may be any size).
+    pub(crate) fn need(&self, n: u64) -> Result<(), ReadError> {
+        if n > self.remaining() {
+            Err(ReadError::Truncated {
+                format: self.format,
+                offset: self.bytes.len() as u64,
+                expected: n - self.remaining(),
+            })
+        } else {
+            Ok(())
+        }
+    }
+
+    pub(crate) fn take(&mut self, n: u64) -> Result<&'a [u8], ReadError> {
+        self.need(n)?;
+        let s = &self.bytes[self.pos..self.pos + n as usize];
+        self.pos += n as usize;
+        Ok(s)
+    }
+
+    pub(crate) fn skip(&mut self, n: u64) -> Result<(), ReadError> {
+        self.take(n).map(|_| ())
+    }
+
+    fn array<const N: usize>(&mut self) -> Result<[u8; N], ReadError> {
+        let s = self.take(N as u64)?;
+        let mut a = [0u8; N];
+        a.copy_from_slice(s);
+        Ok(a)
+    }
+
+    pub(crate) fn u8(&mut self) -> Result<u8, ReadError> {
+        Ok(self.array::<1>()?[0])
+    }
+
+    pub(crate) fn u16(&mut self) -> Result<u16, ReadError> {
+        self.array().map(u16::from_le_bytes)
+    }
+
+    pub(crate) fn u32(&mut self) -> Result<u32, ReadError> {
+        self.array().map(u32::from_le_bytes)
+    }
+
+    pub(crate) fn i32(&mut self) -> Result<i32, ReadError> {
+        self.array().map(i32::from_le_bytes)
+    }
+
+    pub(crate) fn f32(&mut self) -> Result<f32, ReadError> {
+        self.array().map(f32::from_le_bytes)
+    }
+
+    /// Three `f32`s; any of them NaN or infinite is [`ReadError::NonFinite`] at their offset.
+    pub(crate) fn finite_vec3(&mut self) -> Result<Vec3, ReadError> {
+        let at = self.pos();
+        let v = self.vec3()?;
+        if v.is_finite() {
+            Ok(v)
+        } else {
+            Err(ReadError::NonFinite {
+                format: self.format,
+                location: Location::Byte(at),
+            })
+        }
+    }
+
+    /// Three `f32`s, finite or not.
+    pub(crate) fn vec3(&mut self) -> Result<Vec3, ReadError> {
+        Ok(Vec3::new(self.f32()?, self.f32()?, self.f32()?))
+    }
+}
+
+/// `IndexOutOfRange` for a vertex index read at byte `at` of a binary format.
+pub(crate) fn bad_vertex_index(format: Format, at: u64, index: u32, count: usize) -> ReadError {
+    ReadError::IndexOutOfRange {
+        format,
+        location: Location::Byte(at),
+        what: "vertices",
+        index: index as i64,
+        count,
+    }
 }
