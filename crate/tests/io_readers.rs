@@ -415,5 +415,19 @@ fn gltf_missing_external_buffer_is_an_io_error() {
 #[test]
 fn format_names() {
     let names: Vec<_> = Format::ALL.iter().map(|f| f.to_string()).collect();
-    assert_eq!(names, ["OBJ", "PLY", "STL", "glTF", "GLB", "point list"]);
+    assert_eq!(
+        names,
+        [
+            "OBJ",
+            "PLY",
+            "STL",
+            "glTF",
+            "GLB",
+            "point list",
+            "PMD",
+            "SPM",
+            "MD2",
+            "PIE"
+        ]
+    );
 }
