@@ -1174,6 +1174,169 @@ pub fn build_command(
     Ok(())
 }
 
+// ---------------------------------------------------------------------------------------
+// stats and show
+
+fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
+    let path = dir.join("manifest.jsonl");
+    let text = fs::read_to_string(&path).with_context(|| {
+        format!(
+            "cannot read {} (run `meshflow data build` first)",
+            path.display()
+        )
+    })?;
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            serde_json::from_str(l)
+                .with_context(|| format!("{} line {}: not a manifest entry", path.display(), i + 1))
+        })
+        .collect()
+}
+
+/// Histogram bars, one panel per (values, max) pair, stacked vertically.
+fn histogram_png(panels: &[(Vec<usize>, usize, [u8; 3])], path: &Path) -> Result<()> {
+    const W: usize = 800;
+    const PANEL_H: usize = 300;
+    const BINS: usize = 50;
+    let h = PANEL_H * panels.len();
+    let mut img = vec![255u8; W * h * 3];
+    for (p, (values, max, color)) in panels.iter().enumerate() {
+        let mut bins = [0usize; BINS];
+        for &v in values {
+            bins[(v * BINS / (max + 1)).min(BINS - 1)] += 1;
+        }
+        let top = bins.iter().copied().max().unwrap_or(0).max(1);
+        let (x0, y_base, plot_h, bar_w) = (
+            20,
+            p * PANEL_H + PANEL_H - 20,
+            PANEL_H - 40,
+            (W - 40) / BINS,
+        );
+        for (b, &count) in bins.iter().enumerate() {
+            let bar_h = count * plot_h / top;
+            for y in y_base - bar_h..y_base {
+                for x in x0 + b * bar_w..x0 + (b + 1) * bar_w - 1 {
+                    img[(y * W + x) * 3..(y * W + x) * 3 + 3].copy_from_slice(color);
+                }
+            }
+        }
+        // The axis.
+        for x in x0..W - 20 {
+            img[(y_base * W + x) * 3..(y_base * W + x) * 3 + 3].copy_from_slice(&[0, 0, 0]);
+        }
+    }
+    let file =
+        fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
+    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), W as u32, h as u32);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.write_header()?.write_image_data(&img)?;
+    Ok(())
+}
+
+pub fn stats(dir: &Path, out: Option<&Path>) -> Result<()> {
+    let entries = read_manifest(dir)?;
+    let out = out.map_or_else(|| dir.to_path_buf(), Path::to_path_buf);
+    fs::create_dir_all(&out).with_context(|| format!("cannot create {}", out.display()))?;
+    let mut csv =
+        String::from("id,split,package,path,vertices,faces,max_degree,boundary_edges,components\n");
+    for e in &entries {
+        csv.push_str(&format!(
+            "{},{},{},\"{}\",{},{},{},{},{}\n",
+            e.id,
+            e.split,
+            e.package,
+            e.path.replace('"', "\"\""),
+            e.vertices,
+            e.faces,
+            e.max_degree,
+            e.topology.boundary_edges,
+            e.topology.components
+        ));
+    }
+    let csv_path = out.join("stats.csv");
+    write_atomic(&csv_path, csv.as_bytes())?;
+    let f = FilterOptions::default();
+    let png_path = out.join("stats.png");
+    histogram_png(
+        &[
+            (
+                entries.iter().map(|e| e.vertices).collect(),
+                f.max_vertices,
+                [40, 90, 200],
+            ),
+            (
+                entries.iter().map(|e| e.faces).collect(),
+                f.max_faces,
+                [200, 90, 40],
+            ),
+        ],
+        &png_path,
+    )?;
+    let median = |mut v: Vec<usize>| {
+        v.sort_unstable();
+        v.get(v.len() / 2).copied().unwrap_or(0)
+    };
+    println!(
+        "{} meshes; median {} vertices, {} faces",
+        entries.len(),
+        median(entries.iter().map(|e| e.vertices).collect()),
+        median(entries.iter().map(|e| e.faces).collect())
+    );
+    println!(
+        "wrote {} and {} (top: vertices 0..{}, bottom: faces 0..{}, {} bins each)",
+        csv_path.display(),
+        png_path.display(),
+        f.max_vertices,
+        f.max_faces,
+        50
+    );
+    Ok(())
+}
+
+pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<()> {
+    let entries = read_manifest(dir)?;
+    let Some(e) = entries.iter().find(|e| e.id == id) else {
+        bail!(BadInput(format!(
+            "no mesh with id {id} in {}",
+            dir.display()
+        )));
+    };
+    let shard_path = dir.join(&e.shard);
+    let bytes =
+        fs::read(&shard_path).with_context(|| format!("cannot read {}", shard_path.display()))?;
+    let shard = Shard::from_bytes(&bytes)
+        .with_context(|| format!("{} is corrupt", shard_path.display()))?;
+    let Some(mut mesh) = shard.get(e.index) else {
+        bail!(
+            "{} has no mesh {} (manifest and shards disagree)",
+            e.shard,
+            e.index
+        );
+    };
+    if source_frame {
+        let norm = Normalization {
+            center: e.center.into(),
+            scale: e.scale,
+        };
+        mesh = norm.inverse().apply_mesh(&mesh);
+    }
+    meshflow::io::write_path(&mesh, output)
+        .with_context(|| format!("cannot write {}", output.display()))?;
+    println!(
+        "{} ({} {}, {}): {} vertices, {} faces -> {}",
+        e.id,
+        e.package,
+        e.package_version,
+        e.path,
+        e.vertices,
+        e.faces,
+        output.display()
+    );
+    Ok(())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -1338,6 +1501,30 @@ mod tests {
         pkg = PackageInput::from_dir("fake-data", "1.0-1", "CC0-1.0", &root.join("pkg")).unwrap();
         let s = build(&[pkg], &root.join("out"), Some(&cache), &opts).unwrap();
         assert!(!s.sources["fake-data"].from_cache);
+        let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn stats_and_show_read_the_build() {
+        let root = temp_dir("stats");
+        let pkg = fake_package(&root);
+        let out = root.join("out");
+        build(&[pkg], &out, None, &BuildOptions::default()).unwrap();
+        stats(&out, None).unwrap();
+        let csv = fs::read_to_string(out.join("stats.csv")).unwrap();
+        let entries = read_manifest(&out).unwrap();
+        assert_eq!(csv.lines().count(), entries.len() + 1);
+        assert!(
+            fs::read(out.join("stats.png"))
+                .unwrap()
+                .starts_with(b"\x89PNG")
+        );
+        let e = &entries[0];
+        let glb = root.join("one.obj");
+        show(&out, &e.id, &glb, true).unwrap();
+        let m = meshflow::io::read_path(&glb, &Limits::default()).unwrap();
+        assert_eq!(m.faces.len(), e.faces);
+        assert!(show(&out, "nope", &glb, false).is_err());
         let _ = fs::remove_dir_all(&root);
     }
 

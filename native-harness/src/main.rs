@@ -120,6 +120,27 @@ enum DataCommand {
         #[arg(long, default_value_t = 0)]
         limit_per_source: usize,
     },
+    /// Writes stats.csv (per-mesh counts) and stats.png (vertex and face histograms).
+    Stats {
+        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Where to write [default: the build's folder].
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Exports one mesh of the shards (by manifest id) as GLB, OBJ or PLY.
+    Show {
+        id: String,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Undo the model-frame normalisation (original position and size).
+        #[arg(long)]
+        source_frame: bool,
+    },
 }
 
 /// Input the command cannot work with, beyond what the library's typed errors cover
@@ -183,6 +204,21 @@ fn main() -> ExitCode {
                 out.as_deref(),
                 jobs,
                 limit_per_source,
+            ),
+            DataCommand::Stats { dir, output } => data::stats(
+                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                output.as_deref(),
+            ),
+            DataCommand::Show {
+                id,
+                output,
+                dir,
+                source_frame,
+            } => data::show(
+                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                &id,
+                &output,
+                source_frame,
             ),
         },
         Command::Bench { which } => bench::run(which),
