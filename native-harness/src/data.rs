@@ -70,6 +70,17 @@ pub const DEBIAN_SOURCES: [(&str, &str); 9] = [
     ),
 ];
 
+/// Parts of a package licensed differently from the rest: (package, path fragment, license).
+const LICENSE_OVERRIDES: [(&str, &str, &str); 1] =
+    [("sweethome3d-furniture", "BlendSwap-CC-0.sh3f", "CC0-1.0")];
+
+fn license_of(pkg: &PackageInput, path: &str) -> String {
+    LICENSE_OVERRIDES
+        .iter()
+        .find(|(p, fragment, _)| *p == pkg.name && path.contains(fragment))
+        .map_or_else(|| pkg.license.clone(), |(_, _, l)| l.to_string())
+}
+
 /// The PyPI projects of DATA.md's table and their licenses.
 pub const PYPI_SOURCES: [(&str, &str); 7] = [
     ("robosuite", "MIT"),
@@ -710,8 +721,16 @@ fn store_cached(cache: &Path, pkg: &PackageInput, result: &PackageResult) -> Res
     write_atomic(&json, &serde_json::to_vec(result)?)
 }
 
+/// `path` with `suffix` appended to its last component (`with_extension` would replace
+/// whatever follows the last dot, e.g. of a version number).
+fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
+    let mut s = path.as_os_str().to_os_string();
+    s.push(suffix);
+    PathBuf::from(s)
+}
+
 fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    let tmp = path.with_extension("tmp");
+    let tmp = with_suffix(path, ".tmp");
     fs::write(&tmp, bytes).with_context(|| format!("cannot write {}", tmp.display()))?;
     fs::rename(&tmp, path).with_context(|| format!("cannot write {}", path.display()))
 }
@@ -897,6 +916,7 @@ pub fn build(
             continue;
         }
         let split = split_of(&split_key(&pkg.name, &r.path));
+        let license = license_of(pkg, &r.path);
         src.kept += 1;
         *src.splits.entry(split.name().into()).or_default() += 1;
         kept.push((
@@ -909,7 +929,7 @@ pub fn build(
                 package_version: pkg.version.clone(),
                 path: r.path,
                 submesh: String::new(),
-                license: pkg.license.clone(),
+                license,
                 vertices: r.vertices,
                 faces: r.faces,
                 max_degree: r.max_degree,
@@ -1028,7 +1048,7 @@ fn unpack_deb(deb: &Path, dir: &Path) -> Result<()> {
     if marker.exists() {
         return Ok(());
     }
-    let tmp = dir.with_extension("partial");
+    let tmp = with_suffix(dir, ".partial");
     if tmp.exists() {
         fs::remove_dir_all(&tmp).with_context(|| format!("cannot remove {}", tmp.display()))?;
     }
@@ -1546,5 +1566,16 @@ mod tests {
             Some(("flightgear-data-models".into(), "1:2020.3.16+dfsg-1".into()))
         );
         assert_eq!(wheel_stem("example-robot-data"), "example_robot_data");
+        let pkg = PackageInput {
+            name: "sweethome3d-furniture".into(),
+            version: "1".into(),
+            license: "CC-BY-3.0".into(),
+            files: Vec::new(),
+        };
+        assert_eq!(license_of(&pkg, "a/BlendSwap-CC-0.sh3f!x.obj"), "CC0-1.0");
+        assert_eq!(
+            license_of(&pkg, "a/BlendSwap-CC-BY.sh3f!x.obj"),
+            "CC-BY-3.0"
+        );
     }
 }
