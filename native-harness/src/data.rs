@@ -663,11 +663,17 @@ fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
     out
 }
 
-/// Hash of everything a package's result depends on: pipeline version, options, package
-/// identity and each file's path, size and modification time.
+/// Hash of everything a package's result depends on: pipeline and tool version, the formats
+/// `meshflow::io` reads, options, package identity and each file's path, size and
+/// modification time.
 fn fingerprint(pkg: &PackageInput, opts: &BuildOptions) -> Result<String> {
     let mut h = Fnv64::new();
     h.write(&PIPELINE_VERSION.to_le_bytes());
+    h.write_str(env!("CARGO_PKG_VERSION"));
+    // A new reader (a new `Format`) changes what a package gives.
+    for f in Format::ALL {
+        h.write_str(f.name());
+    }
     h.write_str(&serde_json::to_string(&opts.filter)?);
     h.write(&(opts.limit_per_source as u64).to_le_bytes());
     h.write_str(&pkg.name);
