@@ -413,6 +413,17 @@ fn gltf_missing_external_buffer_is_an_io_error() {
 }
 
 #[test]
+fn obj_two_corner_faces_are_skipped() {
+    let m = read_bytes(
+        b"v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\nf 1 2 3\nf 3\n",
+        Format::Obj,
+        &Limits::default(),
+    )
+    .unwrap();
+    assert_eq!(m.faces, vec![[0, 1, 2]]);
+}
+
+#[test]
 fn format_names() {
     let names: Vec<_> = Format::ALL.iter().map(|f| f.to_string()).collect();
     assert_eq!(

@@ -2,8 +2,9 @@
 //!
 //! Read: `v` (x y z; a `w` or vertex colours after xyz are ignored), `vn`, `f` with the
 //! corner syntaxes `v`, `v/vt`, `v//vn`, `v/vt/vn`, 1-based or negative (relative) indices,
-//! polygons fan-triangulated. `vt o g s usemtl mtllib l p`, comments and any other statement
-//! are ignored. Indices must refer to elements defined earlier in the file.
+//! polygons fan-triangulated; an `f` with only one or two corners (a point or line some
+//! exporters write as a face) is skipped after its indices are checked. `vt o g s usemtl mtllib
+//! l p`, comments and any other statement are ignored. Indices must refer to elements defined earlier in the file.
 //!
 //! Normals rule: positions keep their own index. If every face corner names a normal, vertex
 //! `i` takes the normal of the first corner that uses it; a vertex no face uses takes `vn`
@@ -77,15 +78,13 @@ pub(super) fn read(bytes: &[u8], limits: &Limits) -> Result<Mesh, ReadError> {
                         None => None,
                     });
                 }
+                if corners.is_empty() {
+                    return Err(malformed(F, loc(), "a face with no corners".to_string()));
+                }
                 if corners.len() < 3 {
-                    return Err(malformed(
-                        F,
-                        loc(),
-                        format!(
-                            "a face needs at least 3 corners, this one has {}",
-                            corners.len()
-                        ),
-                    ));
+                    // A one- or two-corner `f` is a point or a line written as a face (some
+                    // exporters do this); like `p` and `l` it has no surface and is skipped.
+                    continue;
                 }
                 push_fan(F, &corners, &mut faces, limits)?;
                 if all_corners_have_normals && corner_vn.iter().all(Option::is_some) {
