@@ -663,13 +663,29 @@ fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
     out
 }
 
-/// Hash of everything a package's result depends on: pipeline and tool version, the formats
-/// `meshflow::io` reads, options, package identity and each file's path, size and
-/// modification time.
+/// Hash of the running executable, so that any change to the code (a reader fix that the
+/// version number does not show) invalidates cached package results. Computed once.
+fn executable_hash() -> u64 {
+    static HASH: std::sync::OnceLock<u64> = std::sync::OnceLock::new();
+    *HASH.get_or_init(|| {
+        let mut h = Fnv64::new();
+        match std::env::current_exe().and_then(fs::read) {
+            Ok(bytes) => h.write(&bytes),
+            // Without it nothing can be cached safely: a fresh value each run never matches.
+            Err(_) => h.write(&std::process::id().to_le_bytes()),
+        }
+        h.finish()
+    })
+}
+
+/// Hash of everything a package's result depends on: pipeline and tool version, the
+/// executable itself, the formats `meshflow::io` reads, options, package identity and each
+/// file's path, size and modification time.
 fn fingerprint(pkg: &PackageInput, opts: &BuildOptions) -> Result<String> {
     let mut h = Fnv64::new();
     h.write(&PIPELINE_VERSION.to_le_bytes());
     h.write_str(env!("CARGO_PKG_VERSION"));
+    h.write(&executable_hash().to_le_bytes());
     // A new reader (a new `Format`) changes what a package gives.
     for f in Format::ALL {
         h.write_str(f.name());
