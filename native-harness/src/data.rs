@@ -1028,6 +1028,7 @@ pub fn build(
         manifest.push(b'\n');
     }
     write_atomic(&out.join("manifest.jsonl"), &manifest)?;
+    write_attribution(out, packages, kept.iter().map(|e| &e.0))?;
     let mut skipped = BTreeMap::new();
     for s in sources.values() {
         for (k, v) in &s.skipped {
@@ -1050,6 +1051,90 @@ pub fn build(
         serde_json::to_string_pretty(&summary)?.as_bytes(),
     )?;
     Ok(summary)
+}
+
+/// True for the paths license texts have: Debian's `usr/share/doc/<name>/copyright`, a wheel's
+/// `*.dist-info/LICENSE*` or `*.dist-info/licenses/*`.
+fn is_license_path(package: &str, path: &str) -> bool {
+    let leaf = path.rsplit('/').next().unwrap_or("");
+    path == format!("usr/share/doc/{package}/copyright")
+        || (path.contains(".dist-info/")
+            && (leaf.starts_with("LICENSE") || path.contains(".dist-info/licenses/")))
+}
+
+/// The license texts a package ships, as (path inside the package, bytes), sorted by path.
+/// A wheel (an input file with an empty `rel`) is searched inside its zip.
+fn license_texts(pkg: &PackageInput) -> Result<Vec<(String, Vec<u8>)>> {
+    let mut found = Vec::new();
+    for f in &pkg.files {
+        if f.rel.is_empty() {
+            let file = fs::File::open(&f.abs)
+                .with_context(|| format!("cannot read {}", f.abs.display()))?;
+            let mut zip = zip::ZipArchive::new(file)?;
+            for i in 0..zip.len() {
+                let mut member = zip.by_index(i)?;
+                let name = member.name()?.to_string();
+                if member.is_file() && is_license_path(&pkg.name, &name) {
+                    let mut bytes = Vec::new();
+                    std::io::Read::read_to_end(&mut member, &mut bytes)?;
+                    found.push((name, bytes));
+                }
+            }
+        } else if is_license_path(&pkg.name, &f.rel) {
+            let bytes =
+                fs::read(&f.abs).with_context(|| format!("cannot read {}", f.abs.display()))?;
+            found.push((f.rel.clone(), bytes));
+        }
+    }
+    found.sort_by(|a, b| a.0.cmp(&b.0));
+    Ok(found)
+}
+
+/// Writes `ATTRIBUTION.md` (per package and license: version, how many meshes are used, where
+/// its license text is) and copies each used package's license files to `licenses/`, so any
+/// artefact derived from the shards can carry them. Per-mesh source paths are in the manifest.
+fn write_attribution<'a>(
+    out: &Path,
+    packages: &[PackageInput],
+    entries: impl Iterator<Item = &'a ManifestEntry>,
+) -> Result<()> {
+    let mut used: BTreeMap<(&str, &str, &str), usize> = BTreeMap::new();
+    for e in entries {
+        *used
+            .entry((&e.package, &e.package_version, &e.license))
+            .or_default() += 1;
+    }
+    let licenses_dir = out.join("licenses");
+    fs::create_dir_all(&licenses_dir)
+        .with_context(|| format!("cannot create {}", licenses_dir.display()))?;
+    let mut text = String::from(
+        "# Attribution\n\nThe meshes in these shards come from the packages below, under the \
+         licenses listed. Each mesh's package, version, path inside the package and license are \
+         in `manifest.jsonl`. Anything derived from the shards (trained weights, rendered \
+         images, converted meshes) must carry this file and the `licenses/` folder.\n\n\
+         | package | version | license | meshes | license files |\n|---|---|---|---:|---|\n",
+    );
+    for ((name, version, license), count) in &used {
+        let texts = match packages.iter().find(|p| p.name == *name) {
+            Some(pkg) => license_texts(pkg)?,
+            None => Vec::new(),
+        };
+        let mut copied = Vec::new();
+        for (k, (path, bytes)) in texts.iter().enumerate() {
+            let dest = format!("{name}-{k}.txt");
+            write_atomic(&licenses_dir.join(&dest), bytes)?;
+            copied.push(format!("`licenses/{dest}` (`{path}`)"));
+        }
+        let files = if copied.is_empty() {
+            "none shipped in the package".to_string()
+        } else {
+            copied.join(", ")
+        };
+        text.push_str(&format!(
+            "| {name} | {version} | {license} | {count} | {files} |\n"
+        ));
+    }
+    write_atomic(&out.join("ATTRIBUTION.md"), text.as_bytes())
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1441,6 +1526,12 @@ mod tests {
             ("more.pk3", nested),
         ]);
         fs::write(pkg.join("usr/share/game/data.zip"), data).unwrap();
+        fs::create_dir_all(pkg.join("usr/share/doc/fake-data")).unwrap();
+        fs::write(
+            pkg.join("usr/share/doc/fake-data/copyright"),
+            "Fake copyright text\n",
+        )
+        .unwrap();
         PackageInput::from_dir("fake-data", "1.0-1", "CC0-1.0", &pkg).unwrap()
     }
 
@@ -1448,7 +1539,7 @@ mod tests {
         list_dir(out)
             .unwrap()
             .into_iter()
-            .filter(|p| file_name(p) != "build.json")
+            .filter(|p| p.is_file() && file_name(p) != "build.json")
             .map(|p| (file_name(&p), fs::read(&p).unwrap()))
             .collect()
     }
@@ -1480,6 +1571,14 @@ mod tests {
         assert_eq!(files_a, read_out(&root.join("out-b")));
         assert_eq!(files_a, read_out(&root.join("out-c")));
         assert!(files_a.contains_key("manifest.jsonl"));
+        let attribution = String::from_utf8(files_a["ATTRIBUTION.md"].clone()).unwrap();
+        assert!(attribution.contains("| fake-data |"), "{attribution}");
+        assert!(
+            attribution.contains("`licenses/fake-data-0.txt`"),
+            "{attribution}"
+        );
+        let copied = fs::read_to_string(root.join("out-a/licenses/fake-data-0.txt")).unwrap();
+        assert_eq!(copied, "Fake copyright text\n");
 
         let src = &a.sources["fake-data"];
         assert_eq!(src.skipped.get("unsupported_format"), Some(&1));
