@@ -427,6 +427,7 @@ fn format_names() {
             "PMD",
             "SPM",
             "MD2",
+            "MD3",
             "PIE"
         ]
     );

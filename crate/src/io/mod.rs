@@ -2,7 +2,8 @@
 //!
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
-//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II) and PIE (Warzone 2100).
+//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III) and PIE
+//! (Warzone 2100).
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -24,6 +25,7 @@
 mod base64;
 mod gltf;
 mod md2;
+mod md3;
 mod obj;
 mod pie;
 mod ply;
@@ -62,13 +64,15 @@ pub enum Format {
     Spm,
     /// Quake II model (`.md2`), first frame.
     Md2,
+    /// Quake III model (`.md3`), first frame.
+    Md3,
     /// Warzone 2100 model (`.pie`, text).
     Pie,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 10] = [
+    pub const ALL: [Format; 11] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -78,6 +82,7 @@ impl Format {
         Format::Pmd,
         Format::Spm,
         Format::Md2,
+        Format::Md3,
         Format::Pie,
     ];
 
@@ -94,6 +99,7 @@ impl Format {
             "pmd" => Format::Pmd,
             "spm" => Format::Spm,
             "md2" => Format::Md2,
+            "md3" => Format::Md3,
             "pie" => Format::Pie,
             _ => return None,
         })
@@ -101,7 +107,7 @@ impl Format {
 
     /// Guesses the format from the first bytes of a file.
     ///
-    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `SP` with a known version byte),
+    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
     /// then a JSON object (glTF), a `PIE ` header, an STL (`solid` or a
     /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
     /// keywords, at least one `v`), and finally a list of numbers (points).
@@ -117,6 +123,9 @@ impl Format {
         }
         if bytes.starts_with(b"IDP2") {
             return Some(Format::Md2);
+        }
+        if bytes.starts_with(b"IDP3") {
+            return Some(Format::Md3);
         }
         if spm::magic_matches(bytes) {
             return Some(Format::Spm);
@@ -164,6 +173,7 @@ impl Format {
             Format::Pmd => "PMD",
             Format::Spm => "SPM",
             Format::Md2 => "MD2",
+            Format::Md3 => "MD3",
             Format::Pie => "PIE",
         }
     }
@@ -270,7 +280,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, PIE or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -332,6 +342,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Pmd => pmd::read(bytes, limits),
         Format::Spm => spm::read(bytes, limits),
         Format::Md2 => md2::read(bytes, limits),
+        Format::Md3 => md3::read(bytes, limits),
         Format::Pie => pie::read(bytes, limits),
     }
 }
