@@ -1,4 +1,4 @@
-//! The game-asset readers (PMD, SPM, MD2, PIE): real sample files, malformed inputs, and an
+//! The game-asset readers (PMD, SPM, MD2, MD3, PIE, AC3D): real sample files, malformed inputs, and an
 //! ignored survey over the extracted Debian packages.
 
 use std::path::PathBuf;
@@ -11,8 +11,9 @@ fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/game")
 }
 
-/// Reads every `.pmd`, `.spm`, `.md2` and `.pie` file under `$MESHFLOW_GAME_DATA` and prints,
-/// per format, how many were read and the most common errors.
+/// Reads every `.pmd`, `.spm`, `.md2`, `.md3`, `.pie` and `.ac` file under `$MESHFLOW_GAME_DATA` and prints,
+/// per format, how many were read, how many of those enclose a positive / negative signed
+/// volume, the mean agreement of stored normals with the faces, and the first errors.
 /// `MESHFLOW_GAME_DATA=/work/scratch-game cargo test -p meshflow --test io_game -- --ignored --nocapture`
 #[test]
 #[ignore]
@@ -27,15 +28,23 @@ fn survey_real_packages() {
                 stack.push(p);
             } else if matches!(
                 Format::from_path(&p),
-                Some(Format::Pmd | Format::Spm | Format::Md2 | Format::Pie)
+                Some(Format::Pmd | Format::Spm | Format::Md2 | Format::Md3 | Format::Pie)
             ) {
                 files.push(p);
             }
         }
     }
     files.sort();
-    let mut stats: std::collections::BTreeMap<String, (usize, usize, Vec<String>)> =
-        Default::default();
+    #[derive(Default)]
+    struct Stats {
+        ok: usize,
+        bad: usize,
+        positive: usize,
+        negative: usize,
+        agreement: Vec<f32>,
+        errors: Vec<String>,
+    }
+    let mut stats: std::collections::BTreeMap<String, Stats> = Default::default();
     for p in &files {
         let f = Format::from_path(p).unwrap();
         let s = stats.entry(f.name().to_string()).or_default();
@@ -43,17 +52,34 @@ fn survey_real_packages() {
             Ok(m) => {
                 m.validate()
                     .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-                s.0 += 1;
+                s.ok += 1;
+                let v = signed_volume(&m);
+                if v > 0.0 {
+                    s.positive += 1;
+                } else if v < 0.0 {
+                    s.negative += 1;
+                }
+                if !m.normals.is_empty() && !m.faces.is_empty() {
+                    s.agreement.push(normal_agreement(&m));
+                }
             }
             Err(e) => {
-                s.1 += 1;
-                s.2.push(format!("{}: {e}", p.display()));
+                s.bad += 1;
+                s.errors.push(format!("{}: {e}", p.display()));
             }
         }
     }
-    for (f, (ok, bad, errs)) in &stats {
-        println!("{f}: {ok} read, {bad} failed");
-        for e in errs.iter().take(20) {
+    for (f, s) in &stats {
+        let mean = s.agreement.iter().sum::<f32>() / s.agreement.len().max(1) as f32;
+        println!(
+            "{f}: {} read, {} failed; volume > 0: {}, < 0: {}; normals agree {mean:.3} (mean of {})",
+            s.ok,
+            s.bad,
+            s.positive,
+            s.negative,
+            s.agreement.len()
+        );
+        for e in s.errors.iter().take(20) {
             println!("    {e}");
         }
     }
@@ -229,6 +255,39 @@ fn md2_fixtures() {
         assert_near(a, lo, rel);
         assert_near(b, hi, rel);
         assert_eq!(unused(&m), 0, "{rel}: every vertex is used");
+    }
+}
+
+#[test]
+fn md3_fixtures() {
+    // Frame 0 only, two surfaces each: eye has 9 frames.
+    for (rel, nv, nf, lo, hi) in [
+        (
+            "md3/eye.md3",
+            35,
+            54,
+            [-2.609375, -1.859375, 0.0],
+            [5.21875, 2.125, 3.828125],
+        ),
+        (
+            "md3/nailgunam.md3",
+            84,
+            62,
+            [-15.40625, -16.09375, -10.03125],
+            [15.40625, 11.5, 15.15625],
+        ),
+    ] {
+        let (_, m) = read_fixture(rel);
+        assert_eq!((m.positions.len(), m.faces.len()), (nv, nf), "{rel}");
+        assert_eq!(m.normals.len(), nv, "{rel}: MD3 normals are decoded");
+        assert!(signed_volume(&m) > 0.0, "{rel}: faces wind clockwise");
+        assert!(
+            normal_agreement(&m) > 0.5,
+            "{rel}: normals disagree with faces"
+        );
+        let (a, b) = bbox(&m);
+        assert_near(a, lo, rel);
+        assert_near(b, hi, rel);
     }
 }
 
@@ -485,17 +544,59 @@ fn pie_bad_inputs() {
 }
 
 #[test]
+fn md3_bad_inputs() {
+    // eye: header fields at 72 + 4k; surface 1 at 612 (fields at 680 + 4k, 20 vertices,
+    // triangles at 788), surface 2 at 2772; the file ends at 4412.
+    let good = fixture("md3/eye.md3");
+    let g = || good.clone();
+    let n = table!(Format::Md3,
+        "empty", Vec::new() => ReadError::Truncated { offset: 0, .. },
+        "wrong magic", { let mut b = g(); b[3] = b'2'; b } => ReadError::Malformed { location: Location::Byte(0), .. },
+        "version 16", put_u32(&mut g(), 4, 16) => ReadError::Unsupported { .. },
+        "cut in the header", g()[..50].to_vec() => ReadError::Truncated { .. },
+        "cut one byte short", g()[..g().len() - 1].to_vec() => ReadError::Truncated { expected: 1, .. },
+        "negative surface count", put_u32(&mut g(), 84, -1i32 as u32) => ReadError::Malformed { location: Location::Byte(84), .. },
+        "surface count past the end", put_u32(&mut g(), 84, 1000) => ReadError::Truncated { .. },
+        "surface offset in the header", put_u32(&mut g(), 100, 8) => ReadError::Malformed { location: Location::Byte(100), .. },
+        "surface offset past the end", put_u32(&mut g(), 100, 1 << 20) => ReadError::Truncated { .. },
+        "surface without magic", { let mut b = g(); b[612] = b'X'; b } => ReadError::Malformed { location: Location::Byte(612), .. },
+        "negative vertex count", put_u32(&mut g(), 692, -5i32 as u32) => ReadError::Malformed { location: Location::Byte(692), .. },
+        "vertex count 0x7FFFFFFF", put_u32(&mut g(), 692, i32::MAX as u32) => ReadError::TooLarge { .. },
+        "triangle count 0x7FFFFFFF", put_u32(&mut g(), 696, i32::MAX as u32) => ReadError::TooLarge { .. },
+        "triangles past the end", put_u32(&mut g(), 696, 100_000) => ReadError::Truncated { .. },
+        "vertex offset past the end", put_u32(&mut g(), 712, 1 << 20) => ReadError::Truncated { .. },
+        "triangle offset in the surface header", put_u32(&mut g(), 700, 4) => ReadError::Malformed { location: Location::Byte(700), .. },
+        "surface end offset 0", put_u32(&mut g(), 716, 0) => ReadError::Malformed { location: Location::Byte(716), .. },
+        "surface without frames", put_u32(&mut g(), 684, 0) => ReadError::Malformed { location: Location::Byte(684), .. },
+        "index out of range", put_u32(&mut g(), 792, 20) => ReadError::IndexOutOfRange { index: 20, count: 20, location: Location::Byte(792), .. },
+        "negative index", put_u32(&mut g(), 788, -1i32 as u32) => ReadError::IndexOutOfRange { index: -1, .. },
+        "no surfaces", put_u32(&mut g(), 84, 0) => ReadError::Empty { .. },
+    );
+    assert!(n >= 10);
+    let small = Limits {
+        max_vertices: 30,
+        ..Limits::default()
+    };
+    assert!(matches!(
+        read_bytes(&good, Format::Md3, &small),
+        Err(ReadError::TooLarge { value: 35, .. })
+    ));
+}
+
+#[test]
 fn sniffing_and_extensions() {
     for (name, f) in [
         ("a.PMD", Format::Pmd),
         ("a.spm", Format::Spm),
         ("a.md2", Format::Md2),
+        ("a.MD3", Format::Md3),
         ("a.pie", Format::Pie),
     ] {
         assert_eq!(Format::from_path(std::path::Path::new(name)), Some(f));
         assert!(Format::ALL.contains(&f));
     }
     assert_eq!(Format::sniff(b"PIE 2\nTYPE 200\n"), Some(Format::Pie));
+    assert_eq!(Format::sniff(b"IDP3\x0f\0\0\0"), Some(Format::Md3));
     assert_eq!(Format::sniff(b"SP\x0a\x01"), Some(Format::Spm));
     assert_eq!(Format::sniff(b"SP\x42\x01"), None);
 }
