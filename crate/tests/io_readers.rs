@@ -428,7 +428,8 @@ fn format_names() {
             "SPM",
             "MD2",
             "MD3",
-            "PIE"
+            "PIE",
+            "AC3D"
         ]
     );
 }

@@ -2,8 +2,8 @@
 //!
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
-//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III) and PIE
-//! (Warzone 2100).
+//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
+//! (Warzone 2100) and AC3D (FlightGear).
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -22,6 +22,7 @@
 //!   (the mesh then has none, and [`crate::normals`] can recompute them). A non-finite normal
 //!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
+mod ac3d;
 mod base64;
 mod gltf;
 mod md2;
@@ -41,6 +42,7 @@ use glam::Vec3;
 
 use crate::mesh::{Mesh, MeshError};
 
+pub use ac3d::MAX_DEPTH as AC3D_MAX_DEPTH;
 pub use base64::encode as encode_base64;
 pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
 pub use obj::write_obj;
@@ -68,11 +70,13 @@ pub enum Format {
     Md3,
     /// Warzone 2100 model (`.pie`, text).
     Pie,
+    /// AC3D model (`.ac`, text), as used by FlightGear.
+    Ac3d,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 11] = [
+    pub const ALL: [Format; 12] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -84,6 +88,7 @@ impl Format {
         Format::Md2,
         Format::Md3,
         Format::Pie,
+        Format::Ac3d,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -101,6 +106,7 @@ impl Format {
             "md2" => Format::Md2,
             "md3" => Format::Md3,
             "pie" => Format::Pie,
+            "ac" => Format::Ac3d,
             _ => return None,
         })
     }
@@ -108,7 +114,7 @@ impl Format {
     /// Guesses the format from the first bytes of a file.
     ///
     /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
-    /// then a JSON object (glTF), a `PIE ` header, an STL (`solid` or a
+    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an STL (`solid` or a
     /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
     /// keywords, at least one `v`), and finally a list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
@@ -149,6 +155,9 @@ impl Format {
         if text.starts_with("PIE ") {
             return Some(Format::Pie);
         }
+        if text.starts_with("AC3Db") {
+            return Some(Format::Ac3d);
+        }
         if text.starts_with("solid") {
             return Some(Format::Stl);
         }
@@ -175,6 +184,7 @@ impl Format {
             Format::Md2 => "MD2",
             Format::Md3 => "MD3",
             Format::Pie => "PIE",
+            Format::Ac3d => "AC3D",
         }
     }
 }
@@ -280,7 +290,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -344,6 +354,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Md2 => md2::read(bytes, limits),
         Format::Md3 => md3::read(bytes, limits),
         Format::Pie => pie::read(bytes, limits),
+        Format::Ac3d => ac3d::read(bytes, limits),
     }
 }
 
