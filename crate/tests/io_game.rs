@@ -28,7 +28,14 @@ fn survey_real_packages() {
                 stack.push(p);
             } else if matches!(
                 Format::from_path(&p),
-                Some(Format::Pmd | Format::Spm | Format::Md2 | Format::Md3 | Format::Pie)
+                Some(
+                    Format::Pmd
+                        | Format::Spm
+                        | Format::Md2
+                        | Format::Md3
+                        | Format::Pie
+                        | Format::Ac3d
+                )
             ) {
                 files.push(p);
             }
@@ -285,6 +292,44 @@ fn md3_fixtures() {
             normal_agreement(&m) > 0.5,
             "{rel}: normals disagree with faces"
         );
+        let (a, b) = bbox(&m);
+        assert_near(a, lo, rel);
+        assert_near(b, hi, rel);
+    }
+}
+
+#[test]
+fn ac3d_fixtures() {
+    for (rel, nv, nf, lo, hi) in [
+        // two line surfaces (skipped), nested objects
+        (
+            "ac/factory.ac",
+            41,
+            52,
+            [-40.0, 0.0, -19.5],
+            [40.0, 26.0, 17.5],
+        ),
+        // three levels of objects placed by `loc`, `data` blocks
+        (
+            "ac/tuxcopter.ac",
+            107,
+            98,
+            [-9.6764, -3.7003, -11.2167],
+            [9.6775, 3.69, 13.0662],
+        ),
+        // CRLF line ends, flat
+        (
+            "ac/Ensign.ac",
+            49,
+            72,
+            [-0.3073, -1.8823, 0.0],
+            [2.3432, 0.9683, 0.0],
+        ),
+    ] {
+        let (_, m) = read_fixture(rel);
+        assert_eq!((m.positions.len(), m.faces.len()), (nv, nf), "{rel}");
+        assert!(m.normals.is_empty(), "{rel}: AC3D has no normals");
+        assert!(signed_volume(&m) >= 0.0, "{rel}: faces wind clockwise");
         let (a, b) = bbox(&m);
         assert_near(a, lo, rel);
         assert_near(b, hi, rel);
@@ -584,6 +629,58 @@ fn md3_bad_inputs() {
 }
 
 #[test]
+fn ac3d_bad_inputs() {
+    let head = "AC3Db\nMATERIAL \"m\" rgb 1 1 1  amb 0 0 0  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\n";
+    let verts = "numvert 3\n0 0 0\n1 0 0\n0 1 0\n";
+    let surf = "numsurf 1\nSURF 0x10\nmat 0\nrefs 3\n0 0 0\n1 1 0\n2 0 1\n";
+    let good = format!("{head}{verts}{surf}kids 0\n");
+    assert_eq!(
+        read_bytes(good.as_bytes(), Format::Ac3d, &Limits::default())
+            .unwrap()
+            .faces,
+        vec![[0, 1, 2]]
+    );
+    // Objects nested one deeper than allowed.
+    let deep = {
+        let mut s = String::from("AC3Db\n");
+        for _ in 0..=meshflow::io::AC3D_MAX_DEPTH {
+            s.push_str("OBJECT group\nkids 1\n");
+        }
+        s
+    };
+    let n = table!(Format::Ac3d,
+        "empty", "" => ReadError::Empty { .. },
+        "no header", format!("OBJECT world\nkids 0\n") => ReadError::Malformed { location: Location::Line(1), .. },
+        "version c", "AC3Dc\nOBJECT world\nkids 0\n" => ReadError::Unsupported { .. },
+        "junk outside an object", "AC3Db\nhello\n" => ReadError::Malformed { location: Location::Line(2), .. },
+        "cut in the vertices", format!("{head}numvert 3\n0 0 0\n1 0") => ReadError::Malformed { location: Location::Line(8), .. },
+        "cut before kids", format!("{head}{verts}") => ReadError::Truncated { .. },
+        "fewer kids than declared", format!("AC3Db\nOBJECT world\nkids 2\nOBJECT poly\n{verts}{surf}kids 0\n") => ReadError::Truncated { .. },
+        "cut in the refs", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n") => ReadError::Truncated { .. },
+        "data longer than the file", format!("{head}data 1000\nabc\n") => ReadError::Truncated { .. },
+        "vertex count u64::MAX", format!("{head}numvert 18446744073709551615\n") => ReadError::TooLarge { .. },
+        "negative vertex count", format!("{head}numvert -3\n") => ReadError::Malformed { location: Location::Line(6), .. },
+        "bad coordinate", format!("{head}numvert 3\n0 0 0\n1 x 0\n0 1 0\n") => ReadError::Malformed { location: Location::Line(8), .. },
+        "NaN coordinate", format!("{head}numvert 3\n0 0 0\n1 NaN 0\n0 1 0\n") => ReadError::NonFinite { location: Location::Line(8), .. },
+        "overflowing coordinate", format!("{head}numvert 3\n0 0 0\n1 1e39 0\n0 1 0\n") => ReadError::NonFinite { .. },
+        "infinite loc", format!("{head}loc inf 0 0\n{verts}kids 0\n") => ReadError::NonFinite { location: Location::Line(6), .. },
+        "bad rot", format!("{head}rot 1 0 0 0 1 0 0 0\n") => ReadError::Malformed { .. },
+        "bad flags", format!("{head}{verts}numsurf 1\nSURF 0xZZ\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "unknown surface type", format!("{head}{verts}numsurf 1\nSURF 0x13\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "SURF missing", format!("{head}{verts}numsurf 1\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "index out of range", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0 0\n3 0 0\nkids 0\n") => ReadError::IndexOutOfRange { index: 3, count: 3, location: Location::Line(15), .. },
+        "refs before numvert", format!("{head}{surf}{verts}kids 0\n") => ReadError::IndexOutOfRange { count: 0, .. },
+        "negative index", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n-1 0 0\n2 0 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(14), .. },
+        "missing texture coordinate", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0\n2 0 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(14), .. },
+        "second numvert", format!("{head}{verts}{verts}kids 0\n") => ReadError::Malformed { location: Location::Line(10), .. },
+        "child is not an OBJECT", format!("AC3Db\nOBJECT world\nkids 1\nnumvert 0\n") => ReadError::Malformed { location: Location::Line(4), .. },
+        "nested too deep", deep => ReadError::TooLarge { what: "object nesting depth", .. },
+        "no vertices", "AC3Db\nOBJECT world\nkids 0\n" => ReadError::Empty { .. },
+    );
+    assert!(n >= 10);
+}
+
+#[test]
 fn sniffing_and_extensions() {
     for (name, f) in [
         ("a.PMD", Format::Pmd),
@@ -591,12 +688,17 @@ fn sniffing_and_extensions() {
         ("a.md2", Format::Md2),
         ("a.MD3", Format::Md3),
         ("a.pie", Format::Pie),
+        ("a.ac", Format::Ac3d),
     ] {
         assert_eq!(Format::from_path(std::path::Path::new(name)), Some(f));
         assert!(Format::ALL.contains(&f));
     }
     assert_eq!(Format::sniff(b"PIE 2\nTYPE 200\n"), Some(Format::Pie));
     assert_eq!(Format::sniff(b"IDP3\x0f\0\0\0"), Some(Format::Md3));
+    assert_eq!(
+        Format::sniff(b"AC3Db\r\nOBJECT world\r\n"),
+        Some(Format::Ac3d)
+    );
     assert_eq!(Format::sniff(b"SP\x0a\x01"), Some(Format::Spm));
     assert_eq!(Format::sniff(b"SP\x42\x01"), None);
 }
