@@ -7,7 +7,7 @@ secs="${1:-600}"
 shift || true
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-    targets=(fuzz_obj fuzz_ply fuzz_stl fuzz_gltf fuzz_glb fuzz_points fuzz_pmd fuzz_spm fuzz_md2 fuzz_pie)
+    targets=(fuzz_obj fuzz_ply fuzz_stl fuzz_gltf fuzz_glb fuzz_points fuzz_pmd fuzz_spm fuzz_md2 fuzz_md3 fuzz_pie fuzz_ac3d)
 fi
 for t in "${targets[@]}"; do
     mkdir -p "corpus/$t"

@@ -1,4 +1,4 @@
-//! The game-asset readers (PMD, SPM, MD2, PIE): real sample files, malformed inputs, and an
+//! The game-asset readers (PMD, SPM, MD2, MD3, PIE, AC3D): real sample files, malformed inputs, and an
 //! ignored survey over the extracted Debian packages.
 
 use std::path::PathBuf;
@@ -11,8 +11,9 @@ fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/game")
 }
 
-/// Reads every `.pmd`, `.spm`, `.md2` and `.pie` file under `$MESHFLOW_GAME_DATA` and prints,
-/// per format, how many were read and the most common errors.
+/// Reads every `.pmd`, `.spm`, `.md2`, `.md3`, `.pie` and `.ac` file under `$MESHFLOW_GAME_DATA` and prints,
+/// per format, how many were read, how many of those enclose a positive / negative signed
+/// volume, the mean agreement of stored normals with the faces, and the first errors.
 /// `MESHFLOW_GAME_DATA=/work/scratch-game cargo test -p meshflow --test io_game -- --ignored --nocapture`
 #[test]
 #[ignore]
@@ -27,15 +28,30 @@ fn survey_real_packages() {
                 stack.push(p);
             } else if matches!(
                 Format::from_path(&p),
-                Some(Format::Pmd | Format::Spm | Format::Md2 | Format::Pie)
+                Some(
+                    Format::Pmd
+                        | Format::Spm
+                        | Format::Md2
+                        | Format::Md3
+                        | Format::Pie
+                        | Format::Ac3d
+                )
             ) {
                 files.push(p);
             }
         }
     }
     files.sort();
-    let mut stats: std::collections::BTreeMap<String, (usize, usize, Vec<String>)> =
-        Default::default();
+    #[derive(Default)]
+    struct Stats {
+        ok: usize,
+        bad: usize,
+        positive: usize,
+        negative: usize,
+        agreement: Vec<f32>,
+        errors: Vec<String>,
+    }
+    let mut stats: std::collections::BTreeMap<String, Stats> = Default::default();
     for p in &files {
         let f = Format::from_path(p).unwrap();
         let s = stats.entry(f.name().to_string()).or_default();
@@ -43,17 +59,34 @@ fn survey_real_packages() {
             Ok(m) => {
                 m.validate()
                     .unwrap_or_else(|e| panic!("{}: {e}", p.display()));
-                s.0 += 1;
+                s.ok += 1;
+                let v = signed_volume(&m);
+                if v > 0.0 {
+                    s.positive += 1;
+                } else if v < 0.0 {
+                    s.negative += 1;
+                }
+                if !m.normals.is_empty() && !m.faces.is_empty() {
+                    s.agreement.push(normal_agreement(&m));
+                }
             }
             Err(e) => {
-                s.1 += 1;
-                s.2.push(format!("{}: {e}", p.display()));
+                s.bad += 1;
+                s.errors.push(format!("{}: {e}", p.display()));
             }
         }
     }
-    for (f, (ok, bad, errs)) in &stats {
-        println!("{f}: {ok} read, {bad} failed");
-        for e in errs.iter().take(20) {
+    for (f, s) in &stats {
+        let mean = s.agreement.iter().sum::<f32>() / s.agreement.len().max(1) as f32;
+        println!(
+            "{f}: {} read, {} failed; volume > 0: {}, < 0: {}; normals agree {mean:.3} (mean of {})",
+            s.ok,
+            s.bad,
+            s.positive,
+            s.negative,
+            s.agreement.len()
+        );
+        for e in s.errors.iter().take(20) {
             println!("    {e}");
         }
     }
@@ -229,6 +262,77 @@ fn md2_fixtures() {
         assert_near(a, lo, rel);
         assert_near(b, hi, rel);
         assert_eq!(unused(&m), 0, "{rel}: every vertex is used");
+    }
+}
+
+#[test]
+fn md3_fixtures() {
+    // Frame 0 only, two surfaces each: eye has 9 frames.
+    for (rel, nv, nf, lo, hi) in [
+        (
+            "md3/eye.md3",
+            35,
+            54,
+            [-2.609375, -1.859375, 0.0],
+            [5.21875, 2.125, 3.828125],
+        ),
+        (
+            "md3/nailgunam.md3",
+            84,
+            62,
+            [-15.40625, -16.09375, -10.03125],
+            [15.40625, 11.5, 15.15625],
+        ),
+    ] {
+        let (_, m) = read_fixture(rel);
+        assert_eq!((m.positions.len(), m.faces.len()), (nv, nf), "{rel}");
+        assert_eq!(m.normals.len(), nv, "{rel}: MD3 normals are decoded");
+        assert!(signed_volume(&m) > 0.0, "{rel}: faces wind clockwise");
+        assert!(
+            normal_agreement(&m) > 0.5,
+            "{rel}: normals disagree with faces"
+        );
+        let (a, b) = bbox(&m);
+        assert_near(a, lo, rel);
+        assert_near(b, hi, rel);
+    }
+}
+
+#[test]
+fn ac3d_fixtures() {
+    for (rel, nv, nf, lo, hi) in [
+        // two line surfaces (skipped), nested objects
+        (
+            "ac/factory.ac",
+            41,
+            52,
+            [-40.0, 0.0, -19.5],
+            [40.0, 26.0, 17.5],
+        ),
+        // three levels of objects placed by `loc`, `data` blocks
+        (
+            "ac/tuxcopter.ac",
+            107,
+            98,
+            [-9.6764, -3.7003, -11.2167],
+            [9.6775, 3.69, 13.0662],
+        ),
+        // CRLF line ends, flat
+        (
+            "ac/Ensign.ac",
+            49,
+            72,
+            [-0.3073, -1.8823, 0.0],
+            [2.3432, 0.9683, 0.0],
+        ),
+    ] {
+        let (_, m) = read_fixture(rel);
+        assert_eq!((m.positions.len(), m.faces.len()), (nv, nf), "{rel}");
+        assert!(m.normals.is_empty(), "{rel}: AC3D has no normals");
+        assert!(signed_volume(&m) >= 0.0, "{rel}: faces wind clockwise");
+        let (a, b) = bbox(&m);
+        assert_near(a, lo, rel);
+        assert_near(b, hi, rel);
     }
 }
 
@@ -485,17 +589,116 @@ fn pie_bad_inputs() {
 }
 
 #[test]
+fn md3_bad_inputs() {
+    // eye: header fields at 72 + 4k; surface 1 at 612 (fields at 680 + 4k, 20 vertices,
+    // triangles at 788), surface 2 at 2772; the file ends at 4412.
+    let good = fixture("md3/eye.md3");
+    let g = || good.clone();
+    let n = table!(Format::Md3,
+        "empty", Vec::new() => ReadError::Truncated { offset: 0, .. },
+        "wrong magic", { let mut b = g(); b[3] = b'2'; b } => ReadError::Malformed { location: Location::Byte(0), .. },
+        "version 16", put_u32(&mut g(), 4, 16) => ReadError::Unsupported { .. },
+        "cut in the header", g()[..50].to_vec() => ReadError::Truncated { .. },
+        "cut one byte short", g()[..g().len() - 1].to_vec() => ReadError::Truncated { expected: 1, .. },
+        "negative surface count", put_u32(&mut g(), 84, -1i32 as u32) => ReadError::Malformed { location: Location::Byte(84), .. },
+        "surface count past the end", put_u32(&mut g(), 84, 1000) => ReadError::Truncated { .. },
+        "surface offset in the header", put_u32(&mut g(), 100, 8) => ReadError::Malformed { location: Location::Byte(100), .. },
+        "surface offset past the end", put_u32(&mut g(), 100, 1 << 20) => ReadError::Truncated { .. },
+        "surface without magic", { let mut b = g(); b[612] = b'X'; b } => ReadError::Malformed { location: Location::Byte(612), .. },
+        "negative vertex count", put_u32(&mut g(), 692, -5i32 as u32) => ReadError::Malformed { location: Location::Byte(692), .. },
+        "vertex count 0x7FFFFFFF", put_u32(&mut g(), 692, i32::MAX as u32) => ReadError::TooLarge { .. },
+        "triangle count 0x7FFFFFFF", put_u32(&mut g(), 696, i32::MAX as u32) => ReadError::TooLarge { .. },
+        "triangles past the end", put_u32(&mut g(), 696, 100_000) => ReadError::Truncated { .. },
+        "vertex offset past the end", put_u32(&mut g(), 712, 1 << 20) => ReadError::Truncated { .. },
+        "triangle offset in the surface header", put_u32(&mut g(), 700, 4) => ReadError::Malformed { location: Location::Byte(700), .. },
+        "surface end offset 0", put_u32(&mut g(), 716, 0) => ReadError::Malformed { location: Location::Byte(716), .. },
+        "surface without frames", put_u32(&mut g(), 684, 0) => ReadError::Malformed { location: Location::Byte(684), .. },
+        "index out of range", put_u32(&mut g(), 792, 20) => ReadError::IndexOutOfRange { index: 20, count: 20, location: Location::Byte(792), .. },
+        "negative index", put_u32(&mut g(), 788, -1i32 as u32) => ReadError::IndexOutOfRange { index: -1, .. },
+        "no surfaces", put_u32(&mut g(), 84, 0) => ReadError::Empty { .. },
+    );
+    assert!(n >= 10);
+    let small = Limits {
+        max_vertices: 30,
+        ..Limits::default()
+    };
+    assert!(matches!(
+        read_bytes(&good, Format::Md3, &small),
+        Err(ReadError::TooLarge { value: 35, .. })
+    ));
+}
+
+#[test]
+fn ac3d_bad_inputs() {
+    let head = "AC3Db\nMATERIAL \"m\" rgb 1 1 1  amb 0 0 0  emis 0 0 0  spec 0 0 0  shi 0  trans 0\nOBJECT world\nkids 1\nOBJECT poly\n";
+    let verts = "numvert 3\n0 0 0\n1 0 0\n0 1 0\n";
+    let surf = "numsurf 1\nSURF 0x10\nmat 0\nrefs 3\n0 0 0\n1 1 0\n2 0 1\n";
+    let good = format!("{head}{verts}{surf}kids 0\n");
+    assert_eq!(
+        read_bytes(good.as_bytes(), Format::Ac3d, &Limits::default())
+            .unwrap()
+            .faces,
+        vec![[0, 1, 2]]
+    );
+    // Objects nested one deeper than allowed.
+    let deep = {
+        let mut s = String::from("AC3Db\n");
+        for _ in 0..=meshflow::io::AC3D_MAX_DEPTH {
+            s.push_str("OBJECT group\nkids 1\n");
+        }
+        s
+    };
+    let n = table!(Format::Ac3d,
+        "empty", "" => ReadError::Empty { .. },
+        "no header", format!("OBJECT world\nkids 0\n") => ReadError::Malformed { location: Location::Line(1), .. },
+        "version c", "AC3Dc\nOBJECT world\nkids 0\n" => ReadError::Unsupported { .. },
+        "junk outside an object", "AC3Db\nhello\n" => ReadError::Malformed { location: Location::Line(2), .. },
+        "cut in the vertices", format!("{head}numvert 3\n0 0 0\n1 0") => ReadError::Malformed { location: Location::Line(8), .. },
+        "cut before kids", format!("{head}{verts}") => ReadError::Truncated { .. },
+        "fewer kids than declared", format!("AC3Db\nOBJECT world\nkids 2\nOBJECT poly\n{verts}{surf}kids 0\n") => ReadError::Truncated { .. },
+        "cut in the refs", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n") => ReadError::Truncated { .. },
+        "data longer than the file", format!("{head}data 1000\nabc\n") => ReadError::Truncated { .. },
+        "vertex count u64::MAX", format!("{head}numvert 18446744073709551615\n") => ReadError::TooLarge { .. },
+        "negative vertex count", format!("{head}numvert -3\n") => ReadError::Malformed { location: Location::Line(6), .. },
+        "bad coordinate", format!("{head}numvert 3\n0 0 0\n1 x 0\n0 1 0\n") => ReadError::Malformed { location: Location::Line(8), .. },
+        "NaN coordinate", format!("{head}numvert 3\n0 0 0\n1 NaN 0\n0 1 0\n") => ReadError::NonFinite { location: Location::Line(8), .. },
+        "overflowing coordinate", format!("{head}numvert 3\n0 0 0\n1 1e39 0\n0 1 0\n") => ReadError::NonFinite { .. },
+        "infinite loc", format!("{head}loc inf 0 0\n{verts}kids 0\n") => ReadError::NonFinite { location: Location::Line(6), .. },
+        "bad rot", format!("{head}rot 1 0 0 0 1 0 0 0\n") => ReadError::Malformed { .. },
+        "bad flags", format!("{head}{verts}numsurf 1\nSURF 0xZZ\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "unknown surface type", format!("{head}{verts}numsurf 1\nSURF 0x13\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "SURF missing", format!("{head}{verts}numsurf 1\nrefs 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(11), .. },
+        "index out of range", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0 0\n3 0 0\nkids 0\n") => ReadError::IndexOutOfRange { index: 3, count: 3, location: Location::Line(15), .. },
+        "refs before numvert", format!("{head}{surf}{verts}kids 0\n") => ReadError::IndexOutOfRange { count: 0, .. },
+        "negative index", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n-1 0 0\n2 0 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(14), .. },
+        "missing texture coordinate", format!("{head}{verts}numsurf 1\nSURF 0x10\nrefs 3\n0 0 0\n1 0\n2 0 0\nkids 0\n") => ReadError::Malformed { location: Location::Line(14), .. },
+        "second numvert", format!("{head}{verts}{verts}kids 0\n") => ReadError::Malformed { location: Location::Line(10), .. },
+        "child is not an OBJECT", format!("AC3Db\nOBJECT world\nkids 1\nnumvert 0\n") => ReadError::Malformed { location: Location::Line(4), .. },
+        "nested too deep", deep => ReadError::TooLarge { what: "object nesting depth", .. },
+        "no vertices", "AC3Db\nOBJECT world\nkids 0\n" => ReadError::Empty { .. },
+    );
+    assert!(n >= 10);
+}
+
+#[test]
 fn sniffing_and_extensions() {
     for (name, f) in [
         ("a.PMD", Format::Pmd),
         ("a.spm", Format::Spm),
         ("a.md2", Format::Md2),
+        ("a.MD3", Format::Md3),
         ("a.pie", Format::Pie),
+        ("a.ac", Format::Ac3d),
     ] {
         assert_eq!(Format::from_path(std::path::Path::new(name)), Some(f));
         assert!(Format::ALL.contains(&f));
     }
     assert_eq!(Format::sniff(b"PIE 2\nTYPE 200\n"), Some(Format::Pie));
+    assert_eq!(Format::sniff(b"IDP3\x0f\0\0\0"), Some(Format::Md3));
+    assert_eq!(
+        Format::sniff(b"AC3Db\r\nOBJECT world\r\n"),
+        Some(Format::Ac3d)
+    );
     assert_eq!(Format::sniff(b"SP\x0a\x01"), Some(Format::Spm));
     assert_eq!(Format::sniff(b"SP\x42\x01"), None);
 }

@@ -438,7 +438,9 @@ fn format_names() {
             "PMD",
             "SPM",
             "MD2",
-            "PIE"
+            "MD3",
+            "PIE",
+            "AC3D"
         ]
     );
 }

@@ -2,7 +2,8 @@
 //!
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
-//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II) and PIE (Warzone 2100).
+//! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
+//! (Warzone 2100) and AC3D (FlightGear).
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -21,9 +22,11 @@
 //!   (the mesh then has none, and [`crate::normals`] can recompute them). A non-finite normal
 //!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
+mod ac3d;
 mod base64;
 mod gltf;
 mod md2;
+mod md3;
 mod obj;
 mod pie;
 mod ply;
@@ -39,6 +42,7 @@ use glam::Vec3;
 
 use crate::mesh::{Mesh, MeshError};
 
+pub use ac3d::MAX_DEPTH as AC3D_MAX_DEPTH;
 pub use base64::encode as encode_base64;
 pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
 pub use obj::write_obj;
@@ -62,13 +66,17 @@ pub enum Format {
     Spm,
     /// Quake II model (`.md2`), first frame.
     Md2,
+    /// Quake III model (`.md3`), first frame.
+    Md3,
     /// Warzone 2100 model (`.pie`, text).
     Pie,
+    /// AC3D model (`.ac`, text), as used by FlightGear.
+    Ac3d,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 10] = [
+    pub const ALL: [Format; 12] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -78,7 +86,9 @@ impl Format {
         Format::Pmd,
         Format::Spm,
         Format::Md2,
+        Format::Md3,
         Format::Pie,
+        Format::Ac3d,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -94,15 +104,17 @@ impl Format {
             "pmd" => Format::Pmd,
             "spm" => Format::Spm,
             "md2" => Format::Md2,
+            "md3" => Format::Md3,
             "pie" => Format::Pie,
+            "ac" => Format::Ac3d,
             _ => return None,
         })
     }
 
     /// Guesses the format from the first bytes of a file.
     ///
-    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `SP` with a known version byte),
-    /// then a JSON object (glTF), a `PIE ` header, an STL (`solid` or a
+    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
+    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an STL (`solid` or a
     /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
     /// keywords, at least one `v`), and finally a list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
@@ -117,6 +129,9 @@ impl Format {
         }
         if bytes.starts_with(b"IDP2") {
             return Some(Format::Md2);
+        }
+        if bytes.starts_with(b"IDP3") {
+            return Some(Format::Md3);
         }
         if spm::magic_matches(bytes) {
             return Some(Format::Spm);
@@ -139,6 +154,9 @@ impl Format {
         }
         if text.starts_with("PIE ") {
             return Some(Format::Pie);
+        }
+        if text.starts_with("AC3Db") {
+            return Some(Format::Ac3d);
         }
         if text.starts_with("solid") {
             return Some(Format::Stl);
@@ -164,7 +182,9 @@ impl Format {
             Format::Pmd => "PMD",
             Format::Spm => "SPM",
             Format::Md2 => "MD2",
+            Format::Md3 => "MD3",
             Format::Pie => "PIE",
+            Format::Ac3d => "AC3D",
         }
     }
 }
@@ -270,7 +290,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, PIE or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -332,7 +352,9 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Pmd => pmd::read(bytes, limits),
         Format::Spm => spm::read(bytes, limits),
         Format::Md2 => md2::read(bytes, limits),
+        Format::Md3 => md3::read(bytes, limits),
         Format::Pie => pie::read(bytes, limits),
+        Format::Ac3d => ac3d::read(bytes, limits),
     }
 }
 
