@@ -35,6 +35,7 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::BadInput;
+use crate::plot;
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
 const PIPELINE_VERSION: u32 = 1;
@@ -1321,45 +1322,67 @@ fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
         .collect()
 }
 
-/// Histogram bars, one panel per (values, max) pair, stacked vertically.
-fn histogram_png(panels: &[(Vec<usize>, usize, [u8; 3])], path: &Path) -> Result<()> {
-    const W: usize = 800;
-    const PANEL_H: usize = 300;
+/// One histogram panel: `values` binned over `0..=max`.
+struct HistPanel {
+    title: String,
+    values: Vec<usize>,
+    max: usize,
+    color: [u8; 3],
+}
+
+/// Histogram panels stacked vertically, each with a title, labelled axes and
+/// light grid lines, as PNG bytes. Deterministic: same panels, same bytes.
+fn histogram_png(panels: &[HistPanel]) -> Result<Vec<u8>> {
+    // 76 px of count labels, 700 px of bars, room for the last value label.
+    const W: usize = 820;
+    const PANEL_H: usize = 320;
     const BINS: usize = 50;
-    let h = PANEL_H * panels.len();
-    let mut img = vec![255u8; W * h * 3];
-    for (p, (values, max, color)) in panels.iter().enumerate() {
+    const BAR_W: usize = 14;
+    const SCALE: usize = 2;
+    let mut img = plot::Canvas::new(W, PANEL_H * panels.len(), [255, 255, 255]);
+    for (p, panel) in panels.iter().enumerate() {
+        let top_y = p * PANEL_H;
         let mut bins = [0usize; BINS];
-        for &v in values {
-            bins[(v * BINS / (max + 1)).min(BINS - 1)] += 1;
+        for &v in &panel.values {
+            bins[(v * BINS / (panel.max + 1)).min(BINS - 1)] += 1;
         }
-        let top = bins.iter().copied().max().unwrap_or(0).max(1);
-        let (x0, y_base, plot_h, bar_w) = (
-            20,
-            p * PANEL_H + PANEL_H - 20,
-            PANEL_H - 40,
-            (W - 40) / BINS,
+        let tallest = bins.iter().copied().max().unwrap_or(0).max(1);
+        // Left margin for the count labels, room above for the title and
+        // below for the value labels.
+        let frame = plot::Frame {
+            x0: 76,
+            y_base: top_y + PANEL_H - 44,
+            w: BINS * BAR_W,
+            h: PANEL_H - 44 - 64,
+        };
+        img.text(frame.x0, top_y + 14, &panel.title, SCALE, plot::BLACK);
+        img.text(
+            frame.x0 + 6,
+            frame.y_base - frame.h - 22,
+            "meshes",
+            SCALE,
+            [90, 90, 90],
         );
         for (b, &count) in bins.iter().enumerate() {
-            let bar_h = count * plot_h / top;
-            for y in y_base - bar_h..y_base {
-                for x in x0 + b * bar_w..x0 + (b + 1) * bar_w - 1 {
-                    img[(y * W + x) * 3..(y * W + x) * 3 + 3].copy_from_slice(color);
-                }
-            }
+            let bar_h = count * frame.h / tallest;
+            img.fill_rect(
+                frame.x0 + b * BAR_W,
+                frame.y_base - bar_h,
+                BAR_W - 1,
+                bar_h,
+                panel.color,
+            );
         }
-        // The axis.
-        for x in x0..W - 20 {
-            img[(y_base * W + x) * 3..(y_base * W + x) * 3 + 3].copy_from_slice(&[0, 0, 0]);
-        }
+        img.axes(
+            frame,
+            panel.max + 1,
+            plot::nice_step(panel.max, 4),
+            tallest,
+            plot::nice_step(tallest, 4),
+            SCALE,
+        );
     }
-    let file =
-        fs::File::create(path).with_context(|| format!("cannot write {}", path.display()))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), W as u32, h as u32);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.write_header()?.write_image_data(&img)?;
-    Ok(())
+    img.to_png()
 }
 
 pub fn stats(dir: &Path, out: Option<&Path>) -> Result<()> {
@@ -1386,30 +1409,37 @@ pub fn stats(dir: &Path, out: Option<&Path>) -> Result<()> {
     write_atomic(&csv_path, csv.as_bytes())?;
     let f = FilterOptions::default();
     let png_path = out.join("stats.png");
-    histogram_png(
-        &[
-            (
-                entries.iter().map(|e| e.vertices).collect(),
-                f.max_vertices,
-                [40, 90, 200],
-            ),
-            (
-                entries.iter().map(|e| e.faces).collect(),
-                f.max_faces,
-                [200, 90, 40],
-            ),
-        ],
-        &png_path,
-    )?;
     let median = |mut v: Vec<usize>| {
         v.sort_unstable();
         v.get(v.len() / 2).copied().unwrap_or(0)
     };
+    let vertices: Vec<usize> = entries.iter().map(|e| e.vertices).collect();
+    let faces: Vec<usize> = entries.iter().map(|e| e.faces).collect();
+    let (median_v, median_f) = (median(vertices.clone()), median(faces.clone()));
+    let png = histogram_png(&[
+        HistPanel {
+            title: format!(
+                "Vertices per mesh ({} meshes, median {})",
+                plot::thousands(entries.len()),
+                plot::thousands(median_v)
+            ),
+            values: vertices,
+            max: f.max_vertices,
+            color: [40, 90, 200],
+        },
+        HistPanel {
+            title: format!("Faces per mesh (median {})", plot::thousands(median_f)),
+            values: faces,
+            max: f.max_faces,
+            color: [200, 90, 40],
+        },
+    ])?;
+    write_atomic(&png_path, &png)?;
     println!(
         "{} meshes; median {} vertices, {} faces",
         entries.len(),
-        median(entries.iter().map(|e| e.vertices).collect()),
-        median(entries.iter().map(|e| e.faces).collect())
+        median_v,
+        median_f
     );
     println!(
         "wrote {} and {} (top: vertices 0..{}, bottom: faces 0..{}, {} bins each)",
@@ -1643,6 +1673,36 @@ mod tests {
         let s = build(&[pkg], &root.join("out"), Some(&cache), &opts).unwrap();
         assert!(!s.sources["fake-data"].from_cache);
         let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn histogram_png_has_fixed_size_and_is_deterministic() {
+        let panels = || {
+            vec![
+                HistPanel {
+                    title: "Vertices per mesh (7 meshes, median 40)".into(),
+                    values: vec![3, 40, 40, 41, 900, 4096, 5000],
+                    max: 4096,
+                    color: [40, 90, 200],
+                },
+                HistPanel {
+                    title: "Faces per mesh (median 60)".into(),
+                    values: vec![1, 60, 60, 61, 7999, 8000, 0],
+                    max: 8000,
+                    color: [200, 90, 40],
+                },
+            ]
+        };
+        let a = histogram_png(&panels()).unwrap();
+        let b = histogram_png(&panels()).unwrap();
+        assert_eq!(a, b, "two renders of the same data differ");
+        let info = png::Decoder::new(Cursor::new(&a))
+            .read_info()
+            .unwrap()
+            .info()
+            .clone();
+        assert_eq!((info.width, info.height), (820, 640));
+        assert_eq!(info.color_type, png::ColorType::Rgb);
     }
 
     #[test]

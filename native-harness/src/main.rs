@@ -6,6 +6,7 @@
 mod bench;
 mod commands;
 mod data;
+mod plot;
 mod progress;
 
 use std::path::PathBuf;
