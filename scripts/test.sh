@@ -30,7 +30,8 @@ fi
 
 # Debian packages the tests need. Add to this list rather than installing
 # things by hand: CI machines start bare.
-APT_PACKAGES=()
+# mesa-vulkan-drivers: lavapipe, the Vulkan device the wgpu golden tests run on.
+APT_PACKAGES=(mesa-vulkan-drivers)
 
 LOG_DIR="$(mktemp -d "${TMPDIR:-/tmp}/meshflow-test.XXXXXX")"
 trap 'rm -rf "$LOG_DIR"' EXIT

@@ -24,20 +24,28 @@
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
 pub mod clean;
+pub mod condition;
 pub mod dataset;
+pub mod device;
 pub mod disjoint_sets;
 pub mod extract;
 pub mod io;
 pub mod mesh;
 pub mod metrics;
+pub mod model;
 pub mod normalize;
 pub mod normals;
 pub mod primitives;
+pub mod reconstruct;
 pub mod rng;
 pub mod sample;
 pub mod tokens;
 pub mod topology;
+#[cfg(feature = "train")]
+pub mod train;
 pub mod voxel;
 pub mod workloads;
 
+/// The Burn version the models are written against, for callers that build tensors.
+pub use burn;
 pub use mesh::{Aabb, Mesh};

@@ -1305,7 +1305,7 @@ pub fn build_command(
 // ---------------------------------------------------------------------------------------
 // stats and show
 
-fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
+pub fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
     let path = dir.join("manifest.jsonl");
     let text = fs::read_to_string(&path).with_context(|| {
         format!(

@@ -8,6 +8,9 @@ mod commands;
 mod data;
 mod plot;
 mod progress;
+mod train;
+mod vae_eval;
+mod verify;
 
 use std::path::PathBuf;
 use std::process::ExitCode;
@@ -90,11 +93,33 @@ enum Command {
         #[command(subcommand)]
         which: DataCommand,
     },
+    /// Encodes, decodes and extracts a mesh with the VAE; prints the reconstruction figures.
+    Reconstruct(vae_eval::ReconstructArgs),
+    /// Evaluation with the paper's metrics; JSON out.
+    Eval {
+        #[command(subcommand)]
+        which: EvalCommand,
+    },
+    /// Checks this build's numerics against the reference's golden vectors (vae_small,
+    /// dit_small) on a backend.
+    Verify(verify::VerifyArgs),
+    /// Trains the networks on a shard build (`meshflow data build`).
+    Train {
+        #[command(subcommand)]
+        which: train::TrainCommand,
+    },
     /// Benchmarks that write JSON.
     Bench {
         #[command(subcommand)]
         which: bench::BenchCommand,
     },
+}
+
+#[derive(Subcommand)]
+enum EvalCommand {
+    /// VAE reconstruction of a split (or a folder of meshes): Table 3 metrics, CD/HD x100,
+    /// topology, per size bucket.
+    Vae(vae_eval::EvalVaeArgs),
 }
 
 #[derive(Subcommand)]
@@ -223,6 +248,12 @@ fn main() -> ExitCode {
             ),
         },
         Command::Bench { which } => bench::run(which),
+        Command::Train { which } => train::run(which),
+        Command::Verify(args) => verify::run(args),
+        Command::Reconstruct(args) => vae_eval::reconstruct(args),
+        Command::Eval { which } => match which {
+            EvalCommand::Vae(args) => vae_eval::eval_vae(args),
+        },
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,62 @@
+//! Where the networks run: Burn's CPU backend (flex) or, with the `wgpu` feature, burn-wgpu
+//! pinned to Vulkan (lavapipe without a GPU, NVIDIA's driver on a real one). Pinning matters:
+//! wgpu would otherwise fall back to OpenGL silently (DESIGN.md section 6).
+
+use burn::tensor::Device;
+
+/// Which backend a command runs on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BackendKind {
+    /// Burn's flex backend on the CPU.
+    Cpu,
+    /// burn-wgpu over Vulkan.
+    Wgpu,
+}
+
+impl BackendKind {
+    /// The name used on the command line and in logs.
+    pub fn name(self) -> &'static str {
+        match self {
+            BackendKind::Cpu => "cpu",
+            BackendKind::Wgpu => "wgpu",
+        }
+    }
+}
+
+/// A device of the given kind. `Wgpu` fails with a message when the build lacks the `wgpu`
+/// feature or no Vulkan device can be opened.
+pub fn device(kind: BackendKind) -> Result<Device, String> {
+    match kind {
+        BackendKind::Cpu => Ok(Device::flex()),
+        BackendKind::Wgpu => vulkan(),
+    }
+}
+
+/// The burn-wgpu device on Vulkan. Burn's runtime can be initialised once per process, so the
+/// device is created once and cloned afterwards.
+#[cfg(feature = "wgpu")]
+pub fn vulkan() -> Result<Device, String> {
+    use burn::tensor::wgpu::WgpuBackend;
+    use std::sync::OnceLock;
+    static VULKAN: OnceLock<Result<Device, String>> = OnceLock::new();
+    VULKAN
+        .get_or_init(|| {
+            Device::wgpu_options()
+                .graphics_api(WgpuBackend::Vulkan)
+                .init()
+                .map_err(|e| {
+                    format!(
+                        "no Vulkan device for burn-wgpu ({e}); install mesa-vulkan-drivers for \
+                         lavapipe, or use the CPU backend"
+                    )
+                })
+        })
+        .clone()
+}
+
+/// Without the `wgpu` feature there is no GPU backend.
+#[cfg(not(feature = "wgpu"))]
+pub fn vulkan() -> Result<Device, String> {
+    Err("this build has no wgpu backend (enable the `wgpu` feature)".into())
+}

@@ -1,0 +1,356 @@
+//! Rectified-flow diffusion transformer over the VAE's latent tokens, conditioned on the point
+//! cloud through RoPE-3D positions of the tokens and on the vertex budget through the time
+//! embedding.
+//!
+//! Paper: "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based Diffusion
+//! Transformer" (CVPR 2026). Conventions: DESIGN.md section 2; parameter names are the
+//! reference's (golden `dit_small`). The reference's image cross-attention (`attn2`, `norm2`)
+//! is not built; its tensors are ignored when loading.
+//!
+//! ```text
+//! temb = MLP(sinusoid(1000 t) + cond_proj(vertex_count / num_latents))
+//! h = x_embedder(x)
+//! block i: [i > depth/2: h = RMSNorm(skip_linear([skip | h]) + skip_gate h)]
+//!          h += gate_msa  attn(modulate(RMSNorm1 h), RoPE-3D)
+//!          h += gate_mlp  MLP(modulate(RMSNorm3 h))
+//!          [i < depth/2: push h]
+//! out = final_layer(final_norm h)
+//! ```
+
+use burn::module::{Module, Param};
+use burn::nn::{Linear, RmsNorm, RmsNormConfig};
+use burn::tensor::activation::{gelu, silu};
+use burn::tensor::{Device, Tensor, TensorData};
+use serde::{Deserialize, Serialize};
+
+use super::layers::linear;
+
+/// RMSNorm epsilon of the DiT.
+pub const DIT_NORM_EPS: f64 = 1e-6;
+/// Voxel grid of the RoPE positions.
+pub const ROPE_GRID: usize = 32;
+
+/// Size of a DiT. Stored as JSON beside the weights.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DitConfig {
+    /// Latent tokens per mesh (the VAE's N / r).
+    pub num_latents: usize,
+    /// Channels per latent token.
+    pub latent_dim: usize,
+    pub width: usize,
+    pub depth: usize,
+    pub num_heads: usize,
+}
+
+impl DitConfig {
+    /// The golden `dit_small` configuration.
+    pub fn dit_small() -> Self {
+        Self {
+            num_latents: 16,
+            latent_dim: 8,
+            width: 96,
+            depth: 4,
+            num_heads: 4,
+        }
+    }
+
+    /// Checks the sizes fit together.
+    pub fn validate(&self) -> Result<(), String> {
+        if self.width == 0 || self.num_heads == 0 || self.latent_dim == 0 || self.depth == 0 {
+            return Err("width, num_heads, latent_dim and depth must be positive".into());
+        }
+        if self.width % self.num_heads != 0 {
+            return Err("width must be a multiple of num_heads".into());
+        }
+        let head_dim = self.width / self.num_heads;
+        if head_dim % 6 != 0 {
+            return Err("head_dim must be a multiple of 6 (three axes of RoPE pairs)".into());
+        }
+        if self.width % 2 != 0 {
+            return Err("width must be even (sin | cos time features)".into());
+        }
+        Ok(())
+    }
+}
+
+fn rms_norm(width: usize, device: &Device) -> RmsNorm {
+    RmsNormConfig::new(width)
+        .with_epsilon(DIT_NORM_EPS)
+        .init(device)
+}
+
+/// Self-attention with the DiT's names (`q_norm`, `k_norm`, `out_proj`).
+#[derive(Module, Debug)]
+pub struct DitAttention {
+    pub to_q: Linear,
+    pub to_k: Linear,
+    pub to_v: Linear,
+    pub q_norm: RmsNorm,
+    pub k_norm: RmsNorm,
+    pub out_proj: Linear,
+    pub heads: usize,
+}
+
+impl DitAttention {
+    fn new(width: usize, heads: usize, device: &Device) -> Self {
+        let head_dim = width / heads;
+        Self {
+            to_q: linear(width, width, false, device),
+            to_k: linear(width, width, false, device),
+            to_v: linear(width, width, false, device),
+            q_norm: rms_norm(head_dim, device),
+            k_norm: rms_norm(head_dim, device),
+            out_proj: linear(width, width, true, device),
+            heads,
+        }
+    }
+
+    fn forward(&self, x: Tensor<3>, rope: &Rope) -> Tensor<3> {
+        let [b, l, w] = x.dims();
+        let hd = w / self.heads;
+        let split = |t: Tensor<3>| t.reshape([b, l, self.heads, hd]).swap_dims(1, 2);
+        let q = rope.apply(self.q_norm.forward(split(self.to_q.forward(x.clone()))));
+        let k = rope.apply(self.k_norm.forward(split(self.to_k.forward(x.clone()))));
+        let v = split(self.to_v.forward(x));
+        let out = burn::tensor::module::attention(q, k, v, None, None, Default::default());
+        self.out_proj
+            .forward(out.swap_dims(1, 2).reshape([b, l, w]))
+    }
+}
+
+/// RoPE-3D angles for one batch: `cos` and `sin` `[B, 1, L, head_dim]`, each pair's angle
+/// repeated for its two channels.
+pub struct Rope {
+    cos: Tensor<4>,
+    sin: Tensor<4>,
+}
+
+impl Rope {
+    /// Angles for voxel indices `positions` (`B x L` rows of 3 values in `0..32`).
+    pub fn new(positions: &[[f32; 3]], batch: usize, head_dim: usize, device: &Device) -> Self {
+        let chunk = head_dim / 3;
+        let len = positions.len() / batch;
+        let mut cos = Vec::with_capacity(positions.len() * head_dim);
+        let mut sin = Vec::with_capacity(positions.len() * head_dim);
+        for p in positions {
+            for &coord in p {
+                for j in 0..chunk / 2 {
+                    let inv_freq = 10000f64.powf(-((2 * j) as f64) / chunk as f64);
+                    let angle = coord as f64 * inv_freq;
+                    let (s, c) = (angle.sin() as f32, angle.cos() as f32);
+                    cos.extend([c, c]);
+                    sin.extend([s, s]);
+                }
+            }
+        }
+        let t = |v: Vec<f32>| {
+            Tensor::<4>::from_data(TensorData::new(v, [batch, 1, len, head_dim]), device)
+        };
+        Self {
+            cos: t(cos),
+            sin: t(sin),
+        }
+    }
+
+    /// Rotates adjacent channel pairs of `x` `[B, H, L, head_dim]`.
+    pub fn apply(&self, x: Tensor<4>) -> Tensor<4> {
+        let [b, h, l, d] = x.dims();
+        let pairs = x.clone().reshape([b, h, l, d / 2, 2]);
+        let even = pairs.clone().narrow(4, 0, 1);
+        let odd = pairs.narrow(4, 1, 1);
+        let rotated = Tensor::cat(vec![odd.neg(), even], 4).reshape([b, h, l, d]);
+        x * self.cos.clone() + rotated * self.sin.clone()
+    }
+}
+
+/// fc1 . GELU . fc2.
+#[derive(Module, Debug)]
+pub struct DitMlp {
+    pub fc1: Linear,
+    pub fc2: Linear,
+}
+
+/// One DiT block; blocks in the second half also merge a long skip.
+#[derive(Module, Debug)]
+pub struct DitBlock {
+    pub norm1: RmsNorm,
+    pub attn1: DitAttention,
+    pub norm3: RmsNorm,
+    /// Reference name `adaLN_modulation.1`: SiLU(temb) -> 7 chunks.
+    pub adaln: Linear,
+    pub mlp: DitMlp,
+    pub skip: Option<LongSkip>,
+}
+
+/// `h = RMSNorm(skip_linear([skip | h]) + skip_gate h)`.
+#[derive(Module, Debug)]
+pub struct LongSkip {
+    pub skip_linear: Linear,
+    pub skip_norm: RmsNorm,
+    pub skip_gate: Param<Tensor<1>>,
+}
+
+/// `x (1 + scale) + shift` with `[B, W]` modulation broadcast over tokens.
+fn modulate(x: Tensor<3>, shift: Tensor<3>, scale: Tensor<3>) -> Tensor<3> {
+    x * (scale + 1.0) + shift
+}
+
+impl DitBlock {
+    fn new(width: usize, heads: usize, with_skip: bool, device: &Device) -> Self {
+        Self {
+            norm1: rms_norm(width, device),
+            attn1: DitAttention::new(width, heads, device),
+            norm3: rms_norm(width, device),
+            adaln: linear(width, 7 * width, true, device),
+            mlp: DitMlp {
+                fc1: linear(width, 4 * width, true, device),
+                fc2: linear(4 * width, width, true, device),
+            },
+            skip: with_skip.then(|| LongSkip {
+                skip_linear: linear(2 * width, width, true, device),
+                skip_norm: rms_norm(width, device),
+                skip_gate: Param::from_tensor(Tensor::full([1], 0.5, device)),
+            }),
+        }
+    }
+
+    fn forward(
+        &self,
+        h: Tensor<3>,
+        temb: Tensor<2>,
+        rope: &Rope,
+        skip: Option<Tensor<3>>,
+    ) -> Tensor<3> {
+        let h = match (&self.skip, skip) {
+            (Some(s), Some(skip)) => {
+                let merged = s.skip_linear.forward(Tensor::cat(vec![skip, h.clone()], 2));
+                s.skip_norm
+                    .forward(merged + h * s.skip_gate.val().unsqueeze::<3>())
+            }
+            _ => h,
+        };
+        let [b, w] = temb.dims();
+        let m = self.adaln.forward(silu(temb)).reshape([b, 7, w]);
+        let chunk = |i: usize| m.clone().narrow(1, i, 1); // [B, 1, W]
+        let x = modulate(self.norm1.forward(h.clone()), chunk(0), chunk(1));
+        let h = h + chunk(2) * self.attn1.forward(x, rope);
+        let x = modulate(self.norm3.forward(h.clone()), chunk(3), chunk(4));
+        let mlp = self.mlp.fc2.forward(gelu(self.mlp.fc1.forward(x)));
+        h + chunk(5) * mlp
+    }
+}
+
+/// Timestep embedding with the vertex-count condition.
+#[derive(Module, Debug)]
+pub struct TimestepEmbedder {
+    pub mlp: TimeMlp,
+    pub cond_proj: Linear,
+}
+
+/// Reference names `mlp.0` and `mlp.2`.
+#[derive(Module, Debug)]
+pub struct TimeMlp {
+    pub hidden: Linear,
+    pub output: Linear,
+}
+
+/// Sinusoidal features of `t` (in [0, 1]): `width` channels `[sin | cos]`,
+/// `freq_k = exp(-ln(1e4) k / (width / 2))`, argument `(t freq_k) 1000`.
+pub fn time_features(t: &[f32], width: usize, device: &Device) -> Tensor<2> {
+    let half = width / 2;
+    let mut v = Vec::with_capacity(t.len() * width);
+    for &ti in t {
+        let args: Vec<f32> = (0..half)
+            .map(|k| {
+                let freq = (-(10000f32.ln()) * k as f32 / half as f32).exp();
+                ti * freq * 1000.0
+            })
+            .collect();
+        v.extend(args.iter().map(|a| a.sin()));
+        v.extend(args.iter().map(|a| a.cos()));
+    }
+    Tensor::from_data(TensorData::new(v, [t.len(), width]), device)
+}
+
+/// The DiT. Build with [`Dit::new`], load reference weights with
+/// [`crate::model::weights::load_module`] ignoring [`is_image_path`] names.
+#[derive(Module, Debug)]
+pub struct Dit {
+    pub x_embedder: Linear,
+    pub t_embedder: TimestepEmbedder,
+    pub blocks: Vec<DitBlock>,
+    pub final_norm: RmsNorm,
+    pub final_layer: FinalLayer,
+}
+
+/// Reference name `final_layer.linear`.
+#[derive(Module, Debug)]
+pub struct FinalLayer {
+    pub linear: Linear,
+}
+
+/// The reference's image-conditioning tensors, unused for point clouds.
+pub fn is_image_path(name: &str) -> bool {
+    name.contains(".attn2.") || name.ends_with(".norm2.weight")
+}
+
+impl Dit {
+    pub fn new(cfg: &DitConfig, device: &Device) -> Self {
+        let w = cfg.width;
+        Self {
+            x_embedder: linear(cfg.latent_dim, w, true, device),
+            t_embedder: TimestepEmbedder {
+                mlp: TimeMlp {
+                    hidden: linear(w, 4 * w, true, device),
+                    output: linear(4 * w, w, true, device),
+                },
+                cond_proj: linear(1, w, false, device),
+            },
+            blocks: (0..cfg.depth)
+                .map(|i| DitBlock::new(w, cfg.num_heads, i > cfg.depth / 2, device))
+                .collect(),
+            final_norm: rms_norm(w, device),
+            final_layer: FinalLayer {
+                linear: linear(w, cfg.latent_dim, true, device),
+            },
+        }
+    }
+
+    /// Time embedding `[B, W]` from model times `t` and the vertex-count condition
+    /// `cond` (`[B, 1]`, vertex_count / num_latents).
+    pub fn time_embedding(&self, t: &[f32], cond: Tensor<2>) -> Tensor<2> {
+        let w = self.x_embedder.weight.dims()[1];
+        let device = cond.device();
+        let x = time_features(t, w, &device) + self.t_embedder.cond_proj.forward(cond);
+        let mlp = &self.t_embedder.mlp;
+        mlp.output.forward(gelu(mlp.hidden.forward(x)))
+    }
+
+    /// Velocity for latents `x` `[B, L, D]` at model times `t` (one per batch row).
+    pub fn forward(
+        &self,
+        x: Tensor<3>,
+        t: &[f32],
+        cond: Tensor<2>,
+        rope: &Rope,
+        trace: &mut super::vae::Trace,
+    ) -> Tensor<3> {
+        let temb = self.time_embedding(t, cond);
+        let mut h = self.x_embedder.forward(x);
+        trace.record("x_embedder", &h);
+        let depth = self.blocks.len();
+        let mut skips = Vec::new();
+        for (i, block) in self.blocks.iter().enumerate() {
+            let skip = if i > depth / 2 { skips.pop() } else { None };
+            h = block.forward(h, temb.clone(), rope, skip);
+            if i < depth / 2 {
+                skips.push(h.clone());
+            }
+            trace.record(&format!("blocks.{i}"), &h);
+        }
+        let h = self.final_norm.forward(h);
+        trace.record("final_norm", &h);
+        self.final_layer.linear.forward(h)
+    }
+}

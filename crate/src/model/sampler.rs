@@ -1,0 +1,46 @@
+//! Euler sampling of the rectified flow: from noise at t = 1 to latents, one DiT evaluation per
+//! step, with a progress callback and cancellation between steps.
+
+use burn::tensor::Tensor;
+
+use super::dit::{Dit, Rope};
+use super::schedule::{ScheduleMode, step_times};
+use super::vae::Trace;
+
+/// Why sampling stopped without a result.
+#[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum SampleError {
+    #[error("sampling was cancelled after {0} of {1} steps")]
+    Cancelled(usize, usize),
+    #[error("at least one sampling step is needed")]
+    NoSteps,
+}
+
+/// Integrates `dx/dt = v(x, t)` from `noise` (`[B, L, D]`, t = 1) down the schedule:
+/// `x -= (t_i - t_{i+1}) v(x, t_i)`. `on_step(i, steps)` runs after each step and returns
+/// false to cancel.
+pub fn sample(
+    dit: &Dit,
+    noise: Tensor<3>,
+    cond: Tensor<2>,
+    rope: &Rope,
+    steps: usize,
+    mode: ScheduleMode,
+    on_step: &mut dyn FnMut(usize, usize, &Tensor<3>) -> bool,
+) -> Result<Tensor<3>, SampleError> {
+    if steps == 0 {
+        return Err(SampleError::NoSteps);
+    }
+    let times = step_times(steps, mode);
+    let batch = noise.dims()[0];
+    let mut x = noise;
+    for i in 0..steps {
+        let t = vec![times[i]; batch];
+        let v = dit.forward(x.clone(), &t, cond.clone(), rope, &mut Trace::default());
+        x = x - v * (times[i] - times[i + 1]) as f64;
+        if !on_step(i + 1, steps, &x) {
+            return Err(SampleError::Cancelled(i + 1, steps));
+        }
+    }
+    Ok(x)
+}

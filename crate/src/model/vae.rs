@@ -1,0 +1,331 @@
+//! MeshVAE: a mesh of N vertex tokens becomes N/r continuous latent tokens and comes back as
+//! per-vertex mask logits, positions, normals and edge embeddings.
+//!
+//! Paper: "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based Diffusion
+//! Transformer" (CVPR 2026). Layout and conventions: DESIGN.md section 2; parameter names are
+//! the reference state-dict names (golden `vae_small`).
+//!
+//! ```text
+//! x [B,N,C] -> proj_in -> TokenMerge(r) -> cross-attn(queries = merged, context = all N)
+//!   -> L_e self-attn blocks -> LayerNorm -> pre_kl -> [mean | logvar] -> z [B,N/r,D]
+//! z -> post_kl -> L_d self-attn blocks -> TokenSplit(r) -> cross-attn(context = latents)
+//!   -> LayerNorm -> heads: mask (1), vertex (3), normal (3, tanh), edge embedding (E)
+//! ```
+
+use burn::module::Module;
+use burn::nn::{LayerNorm, Linear};
+use burn::tensor::activation::{leaky_relu, tanh};
+use burn::tensor::{Device, Tensor};
+use serde::{Deserialize, Serialize};
+
+use super::layers::{CrossAttentionBlock, SelfAttentionBlock, layer_norm, linear};
+use crate::tokens::{TokenConfig, embed_dim};
+
+/// Size of a MeshVAE. Stored as JSON beside the weights.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VaeConfig {
+    /// N: vertex tokens per mesh (real + padding).
+    pub num_vertices: usize,
+    /// N / r latent tokens.
+    pub num_latents: usize,
+    /// Channels per latent token.
+    pub latent_dim: usize,
+    pub width_encoder: usize,
+    pub width_decoder: usize,
+    pub num_heads: usize,
+    pub num_layers_encoder: usize,
+    pub num_layers_decoder: usize,
+    /// Neighbour slots per token in the encoder input.
+    pub max_degree: usize,
+    /// Fourier frequencies per coordinate.
+    pub num_freqs: usize,
+    /// Edge-embedding channels (half space, half time).
+    pub edge_dim: usize,
+    /// Spacetime threshold: an edge iff d > tau.
+    pub tau: f32,
+}
+
+impl VaeConfig {
+    /// The golden `vae_small` configuration.
+    pub fn vae_small() -> Self {
+        Self {
+            num_vertices: 64,
+            num_latents: 16,
+            latent_dim: 8,
+            width_encoder: 64,
+            width_decoder: 64,
+            num_heads: 4,
+            num_layers_encoder: 2,
+            num_layers_decoder: 2,
+            max_degree: 8,
+            num_freqs: 16,
+            edge_dim: 32,
+            tau: 0.6,
+        }
+    }
+
+    /// Merge ratio r = N / num_latents.
+    pub fn merge_ratio(&self) -> usize {
+        self.num_vertices / self.num_latents
+    }
+
+    /// The token layout the encoder expects.
+    pub fn tokens(&self) -> TokenConfig {
+        TokenConfig {
+            num_vertices: self.num_vertices,
+            max_degree: self.max_degree,
+            num_freqs: self.num_freqs,
+        }
+    }
+
+    /// Encoder input channels: two Fourier blocks and the neighbour block.
+    pub fn in_channels(&self) -> usize {
+        2 * embed_dim(self.num_freqs) + 3 * self.max_degree
+    }
+
+    /// Checks the sizes fit together; the message names the offending field.
+    pub fn validate(&self) -> Result<(), String> {
+        let positive = [
+            ("num_vertices", self.num_vertices),
+            ("num_latents", self.num_latents),
+            ("latent_dim", self.latent_dim),
+            ("width_encoder", self.width_encoder),
+            ("width_decoder", self.width_decoder),
+            ("num_heads", self.num_heads),
+            ("edge_dim", self.edge_dim),
+        ];
+        if let Some((name, _)) = positive.iter().find(|(_, v)| *v == 0) {
+            return Err(format!("{name} must be positive"));
+        }
+        if self.num_vertices % self.num_latents != 0 {
+            return Err("num_vertices must be a multiple of num_latents".into());
+        }
+        let r = self.merge_ratio();
+        for (name, w) in [
+            ("width_encoder", self.width_encoder),
+            ("width_decoder", self.width_decoder),
+        ] {
+            if w % self.num_heads != 0 {
+                return Err(format!("{name} must be a multiple of num_heads"));
+            }
+        }
+        if self.width_decoder % r != 0 {
+            return Err("width_decoder must be a multiple of the merge ratio".into());
+        }
+        if self.edge_dim % 2 != 0 {
+            return Err("edge_dim must be even (space | time halves)".into());
+        }
+        if !(self.tau.is_finite()) {
+            return Err("tau must be finite".into());
+        }
+        Ok(())
+    }
+}
+
+/// Linear . LeakyReLU(0.01) . Linear: one decoder output head.
+#[derive(Module, Debug)]
+pub struct Head {
+    /// Reference name `0`.
+    pub hidden: Linear,
+    /// Reference name `2`.
+    pub output: Linear,
+}
+
+impl Head {
+    fn new(width: usize, out: usize, device: &Device) -> Self {
+        Self {
+            hidden: linear(width, width / 2, true, device),
+            output: linear(width / 2, out, true, device),
+        }
+    }
+
+    fn forward(&self, x: Tensor<3>) -> Tensor<3> {
+        self.output
+            .forward(leaky_relu(self.hidden.forward(x), 0.01))
+    }
+}
+
+#[derive(Module, Debug)]
+pub struct Encoder {
+    pub proj_in: Linear,
+    /// TokenMerge: r consecutive tokens concatenated, mapped to one.
+    pub downsample_mlp: Linear,
+    pub cross_attn_block: CrossAttentionBlock,
+    pub blocks: Vec<SelfAttentionBlock>,
+    pub norm_out: LayerNorm,
+}
+
+#[derive(Module, Debug)]
+pub struct Decoder {
+    pub blocks: Vec<SelfAttentionBlock>,
+    /// TokenSplit: each latent's channels cut into r chunks, each mapped to one token.
+    pub upsample_mlp: Linear,
+    pub cross_attn_block: CrossAttentionBlock,
+    pub norm_out: LayerNorm,
+    pub mask_head: Head,
+    pub verts_head: Head,
+    pub verts_normal_head: Head,
+    pub adjacency_head: Head,
+}
+
+/// The MeshVAE. Build with [`MeshVae::new`]; load weights with
+/// [`crate::model::weights::load_vae`].
+#[derive(Module, Debug)]
+pub struct MeshVae {
+    pub encoder: Encoder,
+    /// Linear(width_encoder, 2 latent_dim) = [mean | logvar].
+    pub pre_kl: Linear,
+    /// Linear(latent_dim, width_decoder).
+    pub post_kl: Linear,
+    pub decoder: Decoder,
+    /// Merge ratio r.
+    pub ratio: usize,
+}
+
+/// The encoder's posterior over latents.
+#[derive(Clone, Debug)]
+pub struct Posterior {
+    /// `[B, N/r, D]`.
+    pub mean: Tensor<3>,
+    /// `[B, N/r, D]`, clamped to [-30, 20].
+    pub logvar: Tensor<3>,
+}
+
+/// Decoder outputs, per vertex token.
+#[derive(Clone, Debug)]
+pub struct Decoded {
+    /// `[B, N, 1]` logits: a real vertex iff > 0.
+    pub mask_logits: Tensor<3>,
+    /// `[B, N, 3]`.
+    pub positions: Tensor<3>,
+    /// `[B, N, 3]`, in (-1, 1) by tanh.
+    pub normals: Tensor<3>,
+    /// `[B, N, edge_dim]`.
+    pub edge_embeddings: Tensor<3>,
+}
+
+/// Named intermediate tensors, recorded only when enabled (the golden test compares them).
+#[derive(Default)]
+pub struct Trace {
+    pub enabled: bool,
+    pub tensors: Vec<(String, Tensor<3>)>,
+}
+
+impl Trace {
+    /// A trace that records.
+    pub fn recording() -> Self {
+        Self {
+            enabled: true,
+            tensors: Vec::new(),
+        }
+    }
+
+    pub fn record(&mut self, name: &str, t: &Tensor<3>) {
+        if self.enabled {
+            self.tensors.push((name.to_string(), t.clone()));
+        }
+    }
+}
+
+impl MeshVae {
+    /// A randomly initialised VAE of the given size.
+    pub fn new(cfg: &VaeConfig, device: &Device) -> Self {
+        let (we, wd, r) = (cfg.width_encoder, cfg.width_decoder, cfg.merge_ratio());
+        let encoder = Encoder {
+            proj_in: linear(cfg.in_channels(), we, true, device),
+            downsample_mlp: linear(r * we, we, true, device),
+            cross_attn_block: CrossAttentionBlock::new(we, cfg.num_heads, device),
+            blocks: (0..cfg.num_layers_encoder)
+                .map(|_| SelfAttentionBlock::new(we, cfg.num_heads, device))
+                .collect(),
+            norm_out: layer_norm(we, device),
+        };
+        let decoder = Decoder {
+            blocks: (0..cfg.num_layers_decoder)
+                .map(|_| SelfAttentionBlock::new(wd, cfg.num_heads, device))
+                .collect(),
+            upsample_mlp: linear(wd / r, wd, true, device),
+            cross_attn_block: CrossAttentionBlock::new(wd, cfg.num_heads, device),
+            norm_out: layer_norm(wd, device),
+            mask_head: Head::new(wd, 1, device),
+            verts_head: Head::new(wd, 3, device),
+            verts_normal_head: Head::new(wd, 3, device),
+            adjacency_head: Head::new(wd, cfg.edge_dim, device),
+        };
+        Self {
+            encoder,
+            pre_kl: linear(we, 2 * cfg.latent_dim, true, device),
+            post_kl: linear(cfg.latent_dim, wd, true, device),
+            decoder,
+            ratio: r,
+        }
+    }
+
+    /// Encoder input features `[B, N, C]` (from [`crate::tokens::build_tokens`]) to the
+    /// posterior.
+    pub fn encode(&self, x: Tensor<3>, trace: &mut Trace) -> Posterior {
+        let e = &self.encoder;
+        let [b, n, _] = x.dims();
+        let tokens = e.proj_in.forward(x);
+        trace.record("encoder.proj_in", &tokens);
+        let w = tokens.dims()[2];
+        let merged =
+            e.downsample_mlp
+                .forward(tokens.clone().reshape([b, n / self.ratio, self.ratio * w]));
+        trace.record("encoder.downsample_mlp", &merged);
+        let mut h = e.cross_attn_block.forward(merged, tokens);
+        trace.record("encoder.cross_attn_block", &h);
+        for (i, block) in e.blocks.iter().enumerate() {
+            h = block.forward(h);
+            trace.record(&format!("encoder.blocks.{i}"), &h);
+        }
+        let h = e.norm_out.forward(h);
+        let moments = self.pre_kl.forward(h);
+        let d = moments.dims()[2] / 2;
+        let mean = moments.clone().narrow(2, 0, d);
+        let logvar = moments.narrow(2, d, d).clamp(-30.0, 20.0);
+        Posterior { mean, logvar }
+    }
+
+    /// Latents `[B, N/r, D]` to per-vertex outputs.
+    pub fn decode(&self, z: Tensor<3>, trace: &mut Trace) -> Decoded {
+        let d = &self.decoder;
+        let mut h = self.post_kl.forward(z);
+        trace.record("post_kl", &h);
+        for (i, block) in d.blocks.iter().enumerate() {
+            h = block.forward(h);
+            trace.record(&format!("decoder.blocks.{i}"), &h);
+        }
+        let [b, m, w] = h.dims();
+        // Chunk j of latent i becomes token r*i + j.
+        let split = d
+            .upsample_mlp
+            .forward(h.clone().reshape([b, m * self.ratio, w / self.ratio]));
+        trace.record("decoder.upsample_mlp", &split);
+        let x = d.cross_attn_block.forward(split, h);
+        trace.record("decoder.cross_attn_block", &x);
+        let x = d.norm_out.forward(x);
+        trace.record("decoder.norm_out", &x);
+        Decoded {
+            mask_logits: d.mask_head.forward(x.clone()),
+            positions: d.verts_head.forward(x.clone()),
+            normals: tanh(d.verts_normal_head.forward(x.clone())),
+            edge_embeddings: d.adjacency_head.forward(x),
+        }
+    }
+}
+
+/// Spacetime distances `[B, N, N]` of edge embeddings `[B, N, E]`:
+/// `|s_i - s_j|^2 - |t_i - t_j|^2`, s = first half, t = second half.
+pub fn spacetime_distances(h: Tensor<3>) -> Tensor<3> {
+    let e = h.dims()[2] / 2;
+    let sq = |x: Tensor<3>| {
+        let norms = x.clone().square().sum_dim(2); // [B, N, 1]
+        let gram = x.clone().matmul(x.swap_dims(1, 2)); // [B, N, N]
+        norms.clone() + norms.swap_dims(1, 2) - gram * 2.0
+    };
+    let s = h.clone().narrow(2, 0, e);
+    let t = h.narrow(2, e, e);
+    sq(s) - sq(t)
+}

@@ -1,0 +1,264 @@
+//! Weights in safetensors under the reference's state-dict names.
+//!
+//! A module's parameter path (Burn's field names, e.g. `encoder.blocks.0.attn1.to_out.weight`)
+//! becomes the reference name by [`reference_component`] applied to each component
+//! (`to_out` -> `to_out.0`, ...). Linear weights are `[out, in]` in both (the layers use Burn's
+//! column layout), so no tensor is transposed by hand. Loading checks every name and shape and
+//! refuses a file that does not match the module exactly.
+
+use std::collections::{BTreeMap, BTreeSet};
+
+use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
+use burn::tensor::{Device, Tensor, TensorData};
+use safetensors::{Dtype, SafeTensors};
+
+/// Why a weights file was refused.
+#[derive(Debug, thiserror::Error)]
+pub enum WeightsError {
+    #[error("not a safetensors file: {0}")]
+    Format(String),
+    #[error("tensor {name}: dtype {dtype} is not supported (only F32 and F64)")]
+    Dtype { name: String, dtype: String },
+    #[error("tensor {name}: shape {found:?} does not match the configuration's {expected:?}")]
+    Shape {
+        name: String,
+        expected: Vec<usize>,
+        found: Vec<usize>,
+    },
+    #[error("{} tensor(s) missing from the weights file, e.g. {}", .0.len(), .0[0])]
+    Missing(Vec<String>),
+    #[error("{} tensor(s) in the weights file that the configuration has no place for, e.g. {}", .0.len(), .0[0])]
+    Unexpected(Vec<String>),
+    #[error("invalid configuration: {0}")]
+    Config(String),
+    #[error("{0}")]
+    Io(String),
+}
+
+/// Named f32 tensors (row-major) in a stable order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TensorMap {
+    pub tensors: BTreeMap<String, (Vec<usize>, Vec<f32>)>,
+}
+
+impl TensorMap {
+    /// Reads the tensors of a safetensors file whose names start with `prefix`, with the prefix
+    /// removed (`""` reads all). F32 tensors are read as they are and F64 ones rounded to F32;
+    /// other dtypes are refused.
+    pub fn from_safetensors(bytes: &[u8], prefix: &str) -> Result<Self, WeightsError> {
+        Self::read(bytes, prefix, false)
+    }
+
+    /// All tensors of a test-vector file as f32: F32, F64 and I64 (indices) converted, other
+    /// dtypes skipped.
+    pub fn floats_of_safetensors(bytes: &[u8]) -> Result<Self, WeightsError> {
+        Self::read(bytes, "", true)
+    }
+
+    fn read(bytes: &[u8], prefix: &str, skip_non_float: bool) -> Result<Self, WeightsError> {
+        let st =
+            SafeTensors::deserialize(bytes).map_err(|e| WeightsError::Format(e.to_string()))?;
+        let mut tensors = BTreeMap::new();
+        for (name, view) in st.tensors() {
+            let Some(short) = name.strip_prefix(prefix) else {
+                continue;
+            };
+            if skip_non_float && !matches!(view.dtype(), Dtype::F32 | Dtype::F64 | Dtype::I64) {
+                continue;
+            }
+            let values = match view.dtype() {
+                Dtype::F32 => view
+                    .data()
+                    .chunks_exact(4)
+                    .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+                    .collect(),
+                Dtype::I64 if skip_non_float => view
+                    .data()
+                    .chunks_exact(8)
+                    .map(|c| i64::from_le_bytes(c.try_into().expect("8 bytes")) as f32)
+                    .collect(),
+                Dtype::F64 => view
+                    .data()
+                    .chunks_exact(8)
+                    .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")) as f32)
+                    .collect(),
+                other => {
+                    return Err(WeightsError::Dtype {
+                        name,
+                        dtype: format!("{other:?}"),
+                    });
+                }
+            };
+            tensors.insert(short.to_string(), (view.shape().to_vec(), values));
+        }
+        Ok(Self { tensors })
+    }
+
+    /// Serialises to safetensors (names sorted, so the bytes are deterministic).
+    pub fn to_safetensors(&self, metadata: Option<BTreeMap<String, String>>) -> Vec<u8> {
+        let bytes: Vec<(String, Vec<usize>, Vec<u8>)> = self
+            .tensors
+            .iter()
+            .map(|(name, (shape, values))| {
+                let raw = values.iter().flat_map(|v| v.to_le_bytes()).collect();
+                (name.clone(), shape.clone(), raw)
+            })
+            .collect();
+        let views: Vec<(String, safetensors::tensor::TensorView<'_>)> = bytes
+            .iter()
+            .map(|(name, shape, raw)| {
+                let view = safetensors::tensor::TensorView::new(Dtype::F32, shape.clone(), raw)
+                    .expect("shape and byte length agree by construction");
+                (name.clone(), view)
+            })
+            .collect();
+        let metadata = metadata.map(|m| m.into_iter().collect());
+        safetensors::serialize(views, metadata).expect("in-memory serialisation cannot fail")
+    }
+
+    /// The tensor called `name` on `device`.
+    pub fn tensor<const D: usize>(&self, name: &str, device: &Device) -> Option<Tensor<D>> {
+        let (shape, values) = self.tensors.get(name)?;
+        (shape.len() == D)
+            .then(|| Tensor::from_data(TensorData::new(values.clone(), shape.clone()), device))
+    }
+}
+
+/// Reference name of one component of a Burn module path; the rest are the same in both.
+pub fn reference_component(component: &str) -> &str {
+    match component {
+        "to_out" => "to_out.0",
+        "linear_in" => "net.0.proj",
+        "linear_out" => "net.2",
+        "hidden" => "0",
+        "output" => "2",
+        "gamma" => "weight",
+        "beta" => "bias",
+        "adaln" => "adaLN_modulation.1",
+        // The DiT's optional long-skip module: its tensors sit directly in the block.
+        "skip" => "",
+        other => other,
+    }
+}
+
+/// The reference name of a Burn module path.
+pub fn reference_name(path: &[String]) -> String {
+    path.iter()
+        .map(|c| reference_component(c))
+        .filter(|c| !c.is_empty())
+        .collect::<Vec<_>>()
+        .join(".")
+}
+
+struct Loader<'a> {
+    path: Vec<String>,
+    map: &'a TensorMap,
+    used: BTreeSet<String>,
+    missing: Vec<String>,
+    error: Option<WeightsError>,
+}
+
+impl ModuleMapper for Loader<'_> {
+    fn enter_module(&mut self, name: &str, _container: &str) {
+        self.path.push(name.to_string());
+    }
+
+    fn exit_module(&mut self, _name: &str, _container: &str) {
+        self.path.pop();
+    }
+
+    fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+        let name = reference_name(&self.path);
+        let Some((shape, _)) = self.map.tensors.get(&name) else {
+            self.missing.push(name);
+            return param;
+        };
+        self.used.insert(name.clone());
+        // The shape the reference stores: what saving this parameter would write.
+        let expected = param.transform_for_save().val().dims().to_vec();
+        if *shape != expected {
+            self.error.get_or_insert(WeightsError::Shape {
+                name,
+                expected,
+                found: shape.clone(),
+            });
+            return param;
+        }
+        let device = param.lazy_device();
+        let tensor = self.map.tensor::<D>(&name, &device).expect("rank checked");
+        let id = param.id;
+        param.transform_for_load(tensor, id)
+    }
+}
+
+/// Loads `map` into `module`. Every parameter must be present with its exact shape, and every
+/// tensor in `map` must be used, except names for which `ignore` returns true.
+pub fn load_module<M: Module>(
+    module: M,
+    map: &TensorMap,
+    ignore: &dyn Fn(&str) -> bool,
+) -> Result<M, WeightsError> {
+    let mut loader = Loader {
+        path: Vec::new(),
+        map,
+        used: BTreeSet::new(),
+        missing: Vec::new(),
+        error: None,
+    };
+    let module = module.map(&mut loader);
+    if let Some(e) = loader.error {
+        return Err(e);
+    }
+    if !loader.missing.is_empty() {
+        return Err(WeightsError::Missing(loader.missing));
+    }
+    let unexpected: Vec<String> = map
+        .tensors
+        .keys()
+        .filter(|k| !loader.used.contains(*k) && !ignore(k))
+        .cloned()
+        .collect();
+    if !unexpected.is_empty() {
+        return Err(WeightsError::Unexpected(unexpected));
+    }
+    Ok(module)
+}
+
+struct Collector {
+    path: Vec<String>,
+    map: TensorMap,
+}
+
+impl ModuleVisitor for Collector {
+    fn enter_module(&mut self, name: &str, _container: &str) {
+        self.path.push(name.to_string());
+    }
+
+    fn exit_module(&mut self, _name: &str, _container: &str) {
+        self.path.pop();
+    }
+
+    fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+        let tensor = param.transform_for_save().val();
+        let shape = tensor.dims().to_vec();
+        let values = tensor
+            .try_into_data()
+            .expect("reading back a parameter")
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32 data");
+        self.map
+            .tensors
+            .insert(reference_name(&self.path), (shape, values));
+    }
+}
+
+/// All parameters of `module` under their reference names.
+pub fn module_tensors<M: Module>(module: &M) -> TensorMap {
+    let mut collector = Collector {
+        path: Vec::new(),
+        map: TensorMap::default(),
+    };
+    module.visit(&mut collector);
+    collector.map
+}

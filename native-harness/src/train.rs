@@ -1,0 +1,423 @@
+//! `meshflow train vae`: trains the MeshVAE on built shards and writes shippable weights
+//! (safetensors + config + manifest with sha256, the command, data version, wall time, machine
+//! and the latent statistics the DiT normalises by).
+
+use std::fs;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use meshflow::Mesh;
+use meshflow::dataset::{Shard, Split};
+use meshflow::device::{BackendKind, device};
+use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
+use meshflow::tokens::build_tokens;
+use meshflow::train::vae::{StepLog, TrainObserver, VaeTrainConfig, ValLog, make_batch, train_vae};
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::BadInput;
+use crate::data::read_manifest;
+
+#[derive(Subcommand)]
+pub enum TrainCommand {
+    /// Trains the MeshVAE on the train split of a shard build; resumes from OUT/checkpoint.
+    Vae(TrainVaeArgs),
+}
+
+#[derive(Args)]
+pub struct TrainVaeArgs {
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    data: Option<PathBuf>,
+    /// Run folder: checkpoint/, metrics.jsonl and the final weights.
+    #[arg(short, long)]
+    out: PathBuf,
+    /// A size preset (`ship`, `tiny`) or a JSON file with a full training configuration.
+    #[arg(long, default_value = "ship")]
+    config: String,
+    /// Override the number of optimiser steps.
+    #[arg(long)]
+    steps: Option<usize>,
+    #[arg(long)]
+    batch_size: Option<usize>,
+    #[arg(long)]
+    seed: Option<u64>,
+    #[arg(long, value_enum, default_value = "cpu")]
+    backend: Backend,
+    /// Use at most this many training meshes (0 = all).
+    #[arg(long, default_value_t = 0)]
+    limit: usize,
+    /// Validation meshes evaluated at each evaluation step.
+    #[arg(long, default_value_t = 64)]
+    val_meshes: usize,
+}
+
+#[derive(Clone, Copy, clap::ValueEnum)]
+pub enum Backend {
+    Cpu,
+    Wgpu,
+}
+
+impl From<Backend> for BackendKind {
+    fn from(b: Backend) -> Self {
+        match b {
+            Backend::Cpu => BackendKind::Cpu,
+            Backend::Wgpu => BackendKind::Wgpu,
+        }
+    }
+}
+
+/// The shipped size: chosen by measurement (BENCHMARKS.md) to train in at most 2 hours on the
+/// 2-core CPU.
+pub fn ship_config() -> VaeTrainConfig {
+    let model = VaeConfig {
+        num_vertices: 512,
+        num_latents: 128,
+        latent_dim: 8,
+        width_encoder: 128,
+        width_decoder: 128,
+        num_heads: 4,
+        num_layers_encoder: 3,
+        num_layers_decoder: 3,
+        max_degree: 16,
+        num_freqs: 8,
+        edge_dim: 32,
+        tau: 0.6,
+    };
+    let mut cfg = VaeTrainConfig::new(model);
+    cfg.batch_size = 8;
+    cfg.steps = 4000;
+    // Positions in the [-1, 1] frame have squared errors ~1e-4 when good; weight them up so
+    // they are not drowned by the adjacency term.
+    cfg.position_weight = 10.0;
+    cfg.warmup_steps = 200;
+    cfg.eval_every = 500;
+    cfg.checkpoint_every = 250;
+    cfg.ema_decay = Some(0.999);
+    cfg
+}
+
+/// A seconds-scale configuration for tests and smoke runs.
+pub fn tiny_config() -> VaeTrainConfig {
+    let model = VaeConfig {
+        num_vertices: 64,
+        num_latents: 16,
+        latent_dim: 8,
+        width_encoder: 64,
+        width_decoder: 64,
+        num_heads: 4,
+        num_layers_encoder: 1,
+        num_layers_decoder: 1,
+        max_degree: 8,
+        num_freqs: 6,
+        edge_dim: 32,
+        tau: 0.6,
+    };
+    let mut cfg = VaeTrainConfig::new(model);
+    cfg.batch_size = 4;
+    cfg.steps = 300;
+    cfg.warmup_steps = 20;
+    cfg.learning_rate = 2e-3;
+    cfg.eval_every = 100;
+    cfg.checkpoint_every = 100;
+    cfg.augment = false;
+    cfg
+}
+
+fn resolve_config(name: &str) -> Result<VaeTrainConfig> {
+    match name {
+        "ship" => Ok(ship_config()),
+        "tiny" => Ok(tiny_config()),
+        path => {
+            let text = fs::read_to_string(path)
+                .map_err(|e| BadInput(format!("--config {path}: not a preset or file ({e})")))?;
+            Ok(serde_json::from_str(&text)
+                .map_err(|e| BadInput(format!("--config {path}: {e}")))?)
+        }
+    }
+}
+
+/// The meshes of one split of a shard build, in manifest order.
+pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
+    let entries = read_manifest(dir)?;
+    let mut shards: std::collections::BTreeMap<String, Shard> = Default::default();
+    let mut meshes = Vec::new();
+    for e in entries.iter().filter(|e| e.split == split) {
+        if !shards.contains_key(&e.shard) {
+            let path = dir.join(&e.shard);
+            let bytes =
+                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+            let shard = Shard::from_bytes(&bytes)
+                .with_context(|| format!("{} is corrupt", path.display()))?;
+            shards.insert(e.shard.clone(), shard);
+        }
+        let Some(mesh) = shards[&e.shard].get(e.index) else {
+            bail!(
+                "{} has no mesh {} (manifest and shards disagree)",
+                e.shard,
+                e.index
+            );
+        };
+        meshes.push(mesh);
+    }
+    Ok(meshes)
+}
+
+struct BarObserver {
+    bar: ProgressBar,
+}
+
+impl TrainObserver for BarObserver {
+    fn step(&mut self, log: &StepLog) {
+        self.bar.set_position(log.step as u64);
+        self.bar.set_message(format!(
+            "loss {:.4} (adj {:.4}, pos {:.2e}) {:.1} meshes/s",
+            log.loss, log.adjacency, log.position, log.meshes_per_s
+        ));
+    }
+
+    fn validated(&mut self, v: &ValLog) {
+        self.bar.println(format!(
+            "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
+            v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
+        ));
+    }
+
+    fn checkpointed(&mut self, _step: usize) {}
+}
+
+/// What ships beside `vae.safetensors`.
+#[derive(Serialize, Deserialize)]
+pub struct WeightsManifest {
+    pub model: VaeConfig,
+    pub sha256: String,
+    pub parameters: usize,
+    pub command: String,
+    pub training: VaeTrainConfig,
+    pub data: String,
+    pub train_meshes: usize,
+    pub wall_time_s: f64,
+    pub machine: String,
+    pub backend: String,
+    /// Per latent channel, over the posterior means of the training meshes.
+    pub latent_mean: Vec<f32>,
+    pub latent_std: Vec<f32>,
+    pub final_validation: Option<serde_json::Value>,
+}
+
+fn machine_description() -> String {
+    let cpu = fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{cpu}, {cores} threads")
+}
+
+/// Per-channel mean and standard deviation of the posterior means over `meshes`.
+pub fn latent_statistics(
+    vae: &MeshVae,
+    cfg: &VaeConfig,
+    meshes: &[Mesh],
+    device: &meshflow::burn::tensor::Device,
+) -> (Vec<f32>, Vec<f32>) {
+    let d = cfg.latent_dim;
+    let (mut sum, mut sq, mut count) = (vec![0f64; d], vec![0f64; d], 0f64);
+    let tokens: Vec<_> = meshes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens(), i as u64).ok())
+        .collect();
+    for chunk in tokens.chunks(16) {
+        let batch = make_batch(chunk, device);
+        let mean = vae.encode(batch.features, &mut Trace::default()).mean;
+        let values = mean
+            .try_into_data()
+            .expect("readback")
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32");
+        for row in values.chunks_exact(d) {
+            for (c, &v) in row.iter().enumerate() {
+                sum[c] += v as f64;
+                sq[c] += (v as f64) * (v as f64);
+            }
+            count += 1.0;
+        }
+    }
+    let mean: Vec<f32> = sum.iter().map(|s| (s / count.max(1.0)) as f32).collect();
+    let std = sq
+        .iter()
+        .zip(&mean)
+        .map(|(q, &m)| ((q / count.max(1.0) - (m as f64).powi(2)).max(1e-12).sqrt()) as f32)
+        .collect();
+    (mean, std)
+}
+
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+pub fn run(which: TrainCommand) -> Result<()> {
+    match which {
+        TrainCommand::Vae(args) => train_vae_command(args),
+    }
+}
+
+fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
+    let mut cfg = resolve_config(&args.config)?;
+    if let Some(s) = args.steps {
+        cfg.steps = s;
+    }
+    if let Some(b) = args.batch_size {
+        if b == 0 {
+            bail!(BadInput("--batch-size must be at least 1".into()));
+        }
+        cfg.batch_size = b;
+    }
+    if let Some(s) = args.seed {
+        cfg.seed = s;
+    }
+    cfg.model
+        .validate()
+        .map_err(|e| BadInput(format!("configuration: {e}")))?;
+    let data = args
+        .data
+        .unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let fits = |m: &Mesh| m.positions.len() <= cfg.model.num_vertices;
+    let mut train: Vec<Mesh> = load_split(&data, Split::Train)?
+        .into_iter()
+        .filter(fits)
+        .collect();
+    if args.limit > 0 {
+        train.truncate(args.limit);
+    }
+    let val: Vec<Mesh> = load_split(&data, Split::Val)?
+        .into_iter()
+        .filter(fits)
+        .take(args.val_meshes)
+        .collect();
+    if train.is_empty() {
+        bail!(BadInput(format!(
+            "no training mesh in {} has at most {} vertices",
+            data.display(),
+            cfg.model.num_vertices
+        )));
+    }
+    let device = device(args.backend.into()).map_err(|e| anyhow::anyhow!(e))?;
+    fs::create_dir_all(&args.out)?;
+    eprintln!(
+        "training MeshVAE on {} meshes (<= {} vertices), validating on {}, {} steps of {} on {}",
+        train.len(),
+        cfg.model.num_vertices,
+        val.len(),
+        cfg.steps,
+        cfg.batch_size,
+        BackendKind::from(args.backend).name()
+    );
+    let bar = ProgressBar::new(cfg.steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}")
+            .expect("template"),
+    );
+    let started = Instant::now();
+    let mut observer = BarObserver { bar };
+    let trained = train_vae(&cfg, &train, &val, &args.out, &device, &mut observer)?;
+    observer.bar.finish();
+    let wall = started.elapsed().as_secs_f64();
+
+    let vae = load_module(MeshVae::new(&cfg.model, &device), &trained.weights, &|_| {
+        false
+    })?;
+    let (latent_mean, latent_std) = latent_statistics(&vae, &cfg.model, &train, &device);
+    let bytes = trained.weights.to_safetensors(None);
+    write_weights(
+        &args.out,
+        &bytes,
+        &WeightsManifest {
+            model: cfg.model.clone(),
+            sha256: sha256_hex(&bytes),
+            parameters: trained.weights.tensors.values().map(|(_, v)| v.len()).sum(),
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            training: cfg.clone(),
+            data: data_version(&data),
+            train_meshes: train.len(),
+            wall_time_s: wall,
+            machine: machine_description(),
+            backend: BackendKind::from(args.backend).name().into(),
+            latent_mean,
+            latent_std,
+            final_validation: trained
+                .last_val
+                .as_ref()
+                .map(|v| serde_json::to_value(v).expect("serialisable")),
+        },
+    )?;
+    println!(
+        "{} steps in {:.0} s -> {}",
+        trained.steps,
+        wall,
+        args.out.join("vae.safetensors").display()
+    );
+    Ok(())
+}
+
+/// A short identity of the shard build: the sha256 of its manifest.
+fn data_version(dir: &Path) -> String {
+    match fs::read(dir.join("manifest.jsonl")) {
+        Ok(bytes) => format!("manifest.jsonl sha256 {}", sha256_hex(&bytes)),
+        Err(_) => "unknown".into(),
+    }
+}
+
+fn write_weights(dir: &Path, bytes: &[u8], manifest: &WeightsManifest) -> Result<()> {
+    fs::write(dir.join("vae.safetensors"), bytes)?;
+    fs::write(
+        dir.join("vae.json"),
+        serde_json::to_string_pretty(&manifest.model)?,
+    )?;
+    fs::write(
+        dir.join("vae.manifest.json"),
+        serde_json::to_string_pretty(manifest)?,
+    )?;
+    Ok(())
+}
+
+/// Loads shipped weights: the config JSON, the safetensors (checked against the manifest's
+/// sha256 when one is beside it) and the manifest.
+pub fn load_weights(
+    dir: &Path,
+    device: &meshflow::burn::tensor::Device,
+) -> Result<(MeshVae, WeightsManifest)> {
+    let manifest_path = dir.join("vae.manifest.json");
+    let manifest: WeightsManifest = serde_json::from_slice(
+        &fs::read(&manifest_path)
+            .with_context(|| format!("cannot read {}", manifest_path.display()))?,
+    )
+    .with_context(|| format!("{} is not a weights manifest", manifest_path.display()))?;
+    let bytes = fs::read(dir.join("vae.safetensors"))?;
+    if sha256_hex(&bytes) != manifest.sha256 {
+        bail!(BadInput(format!(
+            "{}: sha256 does not match the manifest",
+            dir.join("vae.safetensors").display()
+        )));
+    }
+    manifest
+        .model
+        .validate()
+        .map_err(|e| BadInput(format!("weights config: {e}")))?;
+    let map = TensorMap::from_safetensors(&bytes, "")?;
+    let vae = load_module(MeshVae::new(&manifest.model, device), &map, &|_| false)?;
+    Ok((vae, manifest))
+}

@@ -1,0 +1,393 @@
+//! `meshflow reconstruct` and `meshflow eval vae`: VAE round trips with the paper's Table 3
+//! figures, CD/HD x100 (DESIGN.md section 3), and the topology of the extracted meshes.
+
+use std::fs;
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result, bail};
+use clap::Args;
+use meshflow::Mesh;
+use meshflow::dataset::Split;
+use meshflow::device::{BackendKind, device};
+use meshflow::extract::ExtractOptions;
+use meshflow::metrics::{CompareOptions, Comparison};
+use meshflow::reconstruct::{ReconstructionMetrics, prepare, reconstruct_batch};
+use serde::Serialize;
+
+use crate::BadInput;
+use crate::train::{Backend, load_split, load_weights};
+
+/// Where the shipped weights live, relative to the repository root.
+pub const DEFAULT_WEIGHTS: &str = "weights";
+
+#[derive(Args)]
+pub struct ReconstructArgs {
+    mesh: PathBuf,
+    /// Output mesh (.glb, .obj or .ply), in the input's frame.
+    #[arg(short, long)]
+    output: PathBuf,
+    /// Folder with vae.safetensors, vae.json and vae.manifest.json.
+    #[arg(long, default_value = DEFAULT_WEIGHTS)]
+    weights: PathBuf,
+    #[arg(long, value_enum, default_value = "cpu")]
+    backend: Backend,
+    #[arg(long)]
+    json: bool,
+}
+
+#[derive(Args)]
+pub struct EvalVaeArgs {
+    #[arg(long, default_value = DEFAULT_WEIGHTS)]
+    weights: PathBuf,
+    /// Split of the shard build to evaluate (train, val or test).
+    #[arg(long, default_value = "test")]
+    split: String,
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    data: Option<PathBuf>,
+    /// Evaluate every mesh file in this folder instead (cleaned, normalised and filtered like
+    /// the data build).
+    #[arg(long)]
+    input: Option<PathBuf>,
+    /// At most this many meshes (0 = all).
+    #[arg(long, default_value_t = 0)]
+    limit: usize,
+    /// Write the JSON report here.
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+    /// Write the reconstructed meshes (GLB) into this folder.
+    #[arg(long)]
+    meshes: Option<PathBuf>,
+    #[arg(long, value_enum, default_value = "cpu")]
+    backend: Backend,
+}
+
+pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
+    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let (vae, manifest) = load_weights(&args.weights, &device)?;
+    let input = meshflow::io::read_path(&args.mesh, &meshflow::io::Limits::default())
+        .with_context(|| format!("cannot read {}", args.mesh.display()))
+        .map_err(|e| BadInput(format!("{e:#}")))?;
+    let (model_frame, back) =
+        prepare(&input).map_err(|e| BadInput(format!("{}: {e}", args.mesh.display())))?;
+    let n = manifest.model.num_vertices;
+    if model_frame.positions.len() > n {
+        bail!(BadInput(format!(
+            "{}: {} vertices after welding; this VAE takes at most {n}",
+            args.mesh.display(),
+            model_frame.positions.len()
+        )));
+    }
+    let mut out = reconstruct_batch(
+        &vae,
+        &manifest.model,
+        &[model_frame],
+        &ExtractOptions::default(),
+        &CompareOptions::default(),
+        &device,
+    )
+    .map_err(|e| BadInput(format!("{}: {e}", args.mesh.display())))?;
+    let r = out.remove(0);
+    let mesh = back.apply_mesh(&r.mesh);
+    meshflow::io::write_path(&mesh, &args.output)
+        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    if args.json {
+        println!("{}", serde_json::to_string_pretty(&r.metrics)?);
+    } else {
+        print_metrics(&r.metrics);
+        println!("-> {}", args.output.display());
+    }
+    Ok(())
+}
+
+fn print_metrics(m: &ReconstructionMetrics) {
+    println!(
+        "vertex dist x100 {:.3}, normal dist x100 {:.3}, edge P/R/F1 {:.3}/{:.3}/{:.3}",
+        m.vertex_distance_x100, m.normal_distance_x100, m.edge_precision, m.edge_recall, m.edge_f1
+    );
+    let Some(c) = &m.comparison else {
+        println!(
+            "{} vertices / {} faces in; the extracted mesh has no faces",
+            m.vertices, m.faces
+        );
+        return;
+    };
+    let t = &c.pred_topology;
+    println!(
+        "{} vertices / {} faces in; {} vertices / {} faces out",
+        m.vertices, m.faces, t.vertices, t.faces
+    );
+    println!(
+        "CD x100 {:.3}, HD x100 {:.3}; boundary edges {}, non-manifold edges {}, holes {}, \
+         components {}",
+        c.chamfer_x100,
+        c.hausdorff_x100,
+        t.boundary_edges,
+        t.non_manifold_edges,
+        t.holes,
+        t.components
+    );
+}
+
+/// Mean figures over a set of meshes.
+#[derive(Default, Serialize)]
+pub struct Summary {
+    pub meshes: usize,
+    pub vertex_distance_x100: f64,
+    pub normal_distance_x100: f64,
+    /// Mean of per-mesh precision / recall / F1.
+    pub edge_precision: f64,
+    pub edge_recall: f64,
+    pub edge_f1: f64,
+    /// F1 over all edges of all meshes pooled.
+    pub edge_f1_pooled: f64,
+    /// Meshes whose extraction gave no faces; the figures below are over the others.
+    pub no_faces: usize,
+    pub chamfer_x100: f64,
+    pub hausdorff_x100: f64,
+    pub faces_out: f64,
+    pub faces_in: f64,
+    pub non_manifold_edges: f64,
+    pub boundary_edges: f64,
+    pub holes: f64,
+    pub inconsistent_winding_edges: f64,
+    pub degenerate_faces: f64,
+    pub components: f64,
+    pub mask_errors: f64,
+}
+
+fn summarise(ms: &[&ReconstructionMetrics]) -> Summary {
+    let k = ms.len().max(1) as f64;
+    let mean =
+        |f: &dyn Fn(&ReconstructionMetrics) -> f64| ms.iter().map(|m| f(m)).sum::<f64>() / k + 0.0;
+    let surfaces: Vec<&Comparison> = ms.iter().filter_map(|m| m.comparison.as_ref()).collect();
+    let ks = surfaces.len().max(1) as f64;
+    let smean =
+        |f: &dyn Fn(&Comparison) -> f64| surfaces.iter().map(|c| f(c)).sum::<f64>() / ks + 0.0;
+    let (tp, fp, fn_) = ms.iter().fold((0, 0, 0), |(a, b, c), m| {
+        (
+            a + m.true_positive_edges,
+            b + m.false_positive_edges,
+            c + m.false_negative_edges,
+        )
+    });
+    let p = tp as f64 / (tp + fp).max(1) as f64;
+    let r = tp as f64 / (tp + fn_).max(1) as f64;
+    Summary {
+        meshes: ms.len(),
+        vertex_distance_x100: mean(&|m| m.vertex_distance_x100),
+        normal_distance_x100: mean(&|m| m.normal_distance_x100),
+        edge_precision: mean(&|m| m.edge_precision),
+        edge_recall: mean(&|m| m.edge_recall),
+        edge_f1: mean(&|m| m.edge_f1),
+        edge_f1_pooled: if p + r > 0.0 {
+            2.0 * p * r / (p + r)
+        } else {
+            0.0
+        },
+        no_faces: ms.len() - surfaces.len(),
+        chamfer_x100: smean(&|c| c.chamfer_x100),
+        hausdorff_x100: smean(&|c| c.hausdorff_x100),
+        faces_out: smean(&|c| c.pred_topology.faces as f64),
+        faces_in: smean(&|c| c.gt_topology.faces as f64),
+        non_manifold_edges: smean(&|c| c.pred_topology.non_manifold_edges as f64),
+        boundary_edges: smean(&|c| c.pred_topology.boundary_edges as f64),
+        holes: smean(&|c| c.pred_topology.holes as f64),
+        inconsistent_winding_edges: smean(&|c| c.pred_topology.inconsistent_winding_edges as f64),
+        degenerate_faces: smean(&|c| c.pred_topology.degenerate_faces as f64),
+        components: smean(&|c| c.pred_topology.components as f64),
+        mask_errors: mean(&|m| m.mask_errors as f64),
+    }
+}
+
+#[derive(Serialize)]
+struct EvalReport {
+    weights: String,
+    weights_sha256: String,
+    source: String,
+    /// N / number of latents.
+    token_compression: f64,
+    /// Floats in (N x encoder input channels) over floats in (latents x latent dim).
+    float_compression: f64,
+    skipped: Vec<String>,
+    all: Summary,
+    /// Buckets by vertex count: <= 256, <= 512, <= 1024.
+    buckets: Vec<(String, Summary)>,
+    per_mesh: Vec<(String, ReconstructionMetrics)>,
+}
+
+fn parse_split(name: &str) -> Result<Split> {
+    Split::ALL
+        .into_iter()
+        .find(|s| s.name() == name)
+        .ok_or_else(|| BadInput(format!("--split {name}: expected train, val or test")).into())
+}
+
+/// Meshes of a folder, prepared like the data build; files that fail are listed as skipped.
+fn folder_meshes(dir: &Path, max_vertices: usize) -> Result<(Vec<(String, Mesh)>, Vec<String>)> {
+    let mut files: Vec<PathBuf> = fs::read_dir(dir)
+        .with_context(|| format!("cannot list {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file())
+        .collect();
+    files.sort();
+    let (mut meshes, mut skipped) = (Vec::new(), Vec::new());
+    for f in files {
+        let name = f.display().to_string();
+        let read = meshflow::io::read_path(&f, &meshflow::io::Limits::default());
+        match read
+            .map_err(|e| e.to_string())
+            .and_then(|m| prepare(&m).map_err(|e| e.to_string()))
+        {
+            Ok((m, _)) if m.positions.len() <= max_vertices => meshes.push((name, m)),
+            Ok((m, _)) => skipped.push(format!(
+                "{name}: {} vertices > {max_vertices}",
+                m.positions.len()
+            )),
+            Err(e) => skipped.push(format!("{name}: {e}")),
+        }
+    }
+    Ok((meshes, skipped))
+}
+
+pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
+    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let (vae, manifest) = load_weights(&args.weights, &device)?;
+    let cfg = &manifest.model;
+    let (mut meshes, mut skipped, source) = match &args.input {
+        Some(dir) => {
+            let (m, s) = folder_meshes(dir, cfg.num_vertices)?;
+            (m, s, dir.display().to_string())
+        }
+        None => {
+            let split = parse_split(&args.split)?;
+            let data = args
+                .data
+                .clone()
+                .unwrap_or_else(|| crate::data::default_cache().join("shards"));
+            let all = load_split(&data, split)?;
+            let total = all.len();
+            let kept: Vec<(String, Mesh)> = all
+                .into_iter()
+                .enumerate()
+                .filter(|(_, m)| m.positions.len() <= cfg.num_vertices)
+                .map(|(i, m)| (format!("{}#{i}", split.name()), m))
+                .collect();
+            let skipped = vec![format!(
+                "{} of {total} meshes have more than {} vertices",
+                total - kept.len(),
+                cfg.num_vertices
+            )];
+            (
+                kept,
+                skipped,
+                format!("{} split of {}", split.name(), data.display()),
+            )
+        }
+    };
+    if args.limit > 0 {
+        meshes.truncate(args.limit);
+    }
+    if meshes.is_empty() {
+        bail!(BadInput("no mesh to evaluate".into()));
+    }
+    if let Some(dir) = &args.meshes {
+        fs::create_dir_all(dir)?;
+    }
+    let bar = indicatif::ProgressBar::new(meshes.len() as u64);
+    let mut per_mesh = Vec::new();
+    for chunk in meshes.chunks(8) {
+        let batch: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
+        match reconstruct_batch(
+            &vae,
+            cfg,
+            &batch,
+            &ExtractOptions::default(),
+            &CompareOptions::default(),
+            &device,
+        ) {
+            Ok(results) => {
+                for ((name, _), r) in chunk.iter().zip(results) {
+                    if let Some(dir) = &args.meshes {
+                        let file = dir.join(format!("{}.glb", per_mesh.len()));
+                        meshflow::io::write_path(&r.mesh, &file)?;
+                    }
+                    per_mesh.push((name.clone(), r.metrics));
+                }
+            }
+            // A batch fails as a whole (e.g. an extracted mesh with no faces to sample);
+            // retry its meshes one by one so only the bad one is skipped.
+            Err(_) => {
+                for (name, m) in chunk {
+                    match reconstruct_batch(
+                        &vae,
+                        cfg,
+                        std::slice::from_ref(m),
+                        &ExtractOptions::default(),
+                        &CompareOptions::default(),
+                        &device,
+                    ) {
+                        Ok(mut r) => per_mesh.push((name.clone(), r.remove(0).metrics)),
+                        Err(e) => skipped.push(format!("{name}: {e}")),
+                    }
+                }
+            }
+        }
+        bar.inc(chunk.len() as u64);
+    }
+    bar.finish_and_clear();
+    let all: Vec<&ReconstructionMetrics> = per_mesh.iter().map(|(_, m)| m).collect();
+    let buckets = [256usize, 512, 1024]
+        .iter()
+        .map(|&limit| {
+            let ms: Vec<&ReconstructionMetrics> = all
+                .iter()
+                .copied()
+                .filter(|m| m.vertices <= limit)
+                .collect();
+            (format!("<= {limit}"), summarise(&ms))
+        })
+        .collect();
+    let report = EvalReport {
+        weights: args.weights.display().to_string(),
+        weights_sha256: manifest.sha256.clone(),
+        source,
+        token_compression: cfg.merge_ratio() as f64,
+        float_compression: (cfg.num_vertices * cfg.in_channels()) as f64
+            / (cfg.num_latents * cfg.latent_dim) as f64,
+        skipped,
+        all: summarise(&all),
+        buckets,
+        per_mesh,
+    };
+    let s = &report.all;
+    println!(
+        "{} meshes: vertex x100 {:.3}, normal x100 {:.3}, edge P/R/F1 {:.3}/{:.3}/{:.3} (pooled F1 \
+         {:.3}), CD x100 {:.3}, HD x100 {:.3}",
+        s.meshes,
+        s.vertex_distance_x100,
+        s.normal_distance_x100,
+        s.edge_precision,
+        s.edge_recall,
+        s.edge_f1,
+        s.edge_f1_pooled,
+        s.chamfer_x100,
+        s.hausdorff_x100
+    );
+    for (name, b) in &report.buckets {
+        println!(
+            "  {name:>6} vertices: {:4} meshes, F1 {:.3}, CD x100 {:.3}, HD x100 {:.3}",
+            b.meshes, b.edge_f1, b.chamfer_x100, b.hausdorff_x100
+        );
+    }
+    println!(
+        "  extracted topology (mean per mesh): {:.1} faces (gt {:.1}), {:.2} non-manifold edges, \
+         {:.2} holes, {:.2} components; {} with no faces",
+        s.faces_out, s.faces_in, s.non_manifold_edges, s.holes, s.components, s.no_faces
+    );
+    if let Some(out) = &args.output {
+        fs::write(out, serde_json::to_string_pretty(&report)?)?;
+        println!("-> {}", out.display());
+    }
+    Ok(())
+}
