@@ -440,7 +440,8 @@ fn format_names() {
             "MD2",
             "MD3",
             "PIE",
-            "AC3D"
+            "AC3D",
+            "COLLADA"
         ]
     );
 }
