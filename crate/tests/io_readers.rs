@@ -441,7 +441,8 @@ fn format_names() {
             "MD3",
             "PIE",
             "AC3D",
-            "COLLADA"
+            "COLLADA",
+            "ASE"
         ]
     );
 }

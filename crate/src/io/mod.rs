@@ -3,7 +3,7 @@
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
 //! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
-//! (Warzone 2100) and AC3D (FlightGear);
+//! (Warzone 2100), AC3D (FlightGear) and ASE (3ds Max ASCII export);
 //! and COLLADA (`.dae`), as used by the robot descriptions.
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
@@ -24,6 +24,7 @@
 //!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
 mod ac3d;
+mod ase;
 mod base64;
 mod dae;
 mod gltf;
@@ -36,6 +37,7 @@ mod pmd;
 mod points;
 mod spm;
 mod stl;
+mod tokens;
 
 use std::fmt;
 use std::path::Path;
@@ -45,6 +47,7 @@ use glam::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
 pub use ac3d::MAX_DEPTH as AC3D_MAX_DEPTH;
+pub use ase::MAX_DEPTH as ASE_MAX_DEPTH;
 pub use base64::encode as encode_base64;
 pub use dae::{
     DaeInfo, MAX_NODE_DEPTH as DAE_MAX_NODE_DEPTH, MAX_NODE_VISITS as DAE_MAX_NODE_VISITS,
@@ -81,11 +84,13 @@ pub enum Format {
     Ac3d,
     /// COLLADA document (`.dae`, XML), converted to metres and +Y up.
     Dae,
+    /// 3ds Max ASCII export (`.ase`, text).
+    Ase,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 13] = [
+    pub const ALL: [Format; 14] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -99,6 +104,7 @@ impl Format {
         Format::Pie,
         Format::Ac3d,
         Format::Dae,
+        Format::Ase,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -118,6 +124,7 @@ impl Format {
             "pie" => Format::Pie,
             "ac" => Format::Ac3d,
             "dae" => Format::Dae,
+            "ase" => Format::Ase,
             _ => return None,
         })
     }
@@ -125,10 +132,10 @@ impl Format {
     /// Guesses the format from the first bytes of a file.
     ///
     /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
-    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an XML document whose start
-    /// holds a `<COLLADA` element, an STL (`solid` or a binary whose triangle count matches the
-    /// size exactly), an OBJ (lines starting with OBJ keywords, at least one `v`), and finally a
-    /// list of numbers (points).
+    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an `*3DSMAX_ASCIIEXPORT`
+    /// header (ASE), an XML document whose start holds a `<COLLADA` element, an STL (`solid` or a
+    /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
+    /// keywords, at least one `v`), and finally a list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         if bytes.starts_with(b"glTF") {
             return Some(Format::Glb);
@@ -170,6 +177,9 @@ impl Format {
         if text.starts_with("AC3Db") {
             return Some(Format::Ac3d);
         }
+        if text.starts_with("*3DSMAX_ASCIIEXPORT") {
+            return Some(Format::Ase);
+        }
         if text.starts_with('<') && text.contains("<COLLADA") {
             return Some(Format::Dae);
         }
@@ -201,6 +211,7 @@ impl Format {
             Format::Pie => "PIE",
             Format::Ac3d => "AC3D",
             Format::Dae => "COLLADA",
+            Format::Ase => "ASE",
         }
     }
 }
@@ -306,7 +317,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -372,6 +383,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Pie => pie::read(bytes, limits),
         Format::Ac3d => ac3d::read(bytes, limits),
         Format::Dae => dae::read(bytes, limits),
+        Format::Ase => ase::read(bytes, limits),
     }
 }
 
