@@ -442,7 +442,8 @@ fn format_names() {
             "PIE",
             "AC3D",
             "COLLADA",
-            "ASE"
+            "ASE",
+            "IQM"
         ]
     );
 }

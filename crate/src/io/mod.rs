@@ -3,7 +3,7 @@
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
 //! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
-//! (Warzone 2100), AC3D (FlightGear) and ASE (3ds Max ASCII export);
+//! (Warzone 2100), AC3D (FlightGear), ASE (3ds Max ASCII export) and IQM (Inter-Quake Model);
 //! and COLLADA (`.dae`), as used by the robot descriptions.
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
@@ -28,6 +28,7 @@ mod ase;
 mod base64;
 mod dae;
 mod gltf;
+mod iqm;
 mod md2;
 mod md3;
 mod obj;
@@ -86,11 +87,13 @@ pub enum Format {
     Dae,
     /// 3ds Max ASCII export (`.ase`, text).
     Ase,
+    /// Inter-Quake Model (`.iqm`, binary, version 2), bind pose.
+    Iqm,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 14] = [
+    pub const ALL: [Format; 15] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -105,6 +108,7 @@ impl Format {
         Format::Ac3d,
         Format::Dae,
         Format::Ase,
+        Format::Iqm,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -125,17 +129,18 @@ impl Format {
             "ac" => Format::Ac3d,
             "dae" => Format::Dae,
             "ase" => Format::Ase,
+            "iqm" => Format::Iqm,
             _ => return None,
         })
     }
 
     /// Guesses the format from the first bytes of a file.
     ///
-    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
-    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an `*3DSMAX_ASCIIEXPORT`
-    /// header (ASE), an XML document whose start holds a `<COLLADA` element, an STL (`solid` or a
-    /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
-    /// keywords, at least one `v`), and finally a list of numbers (points).
+    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `INTERQUAKEMODEL`, `SP` with a
+    /// known version byte), then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an
+    /// `*3DSMAX_ASCIIEXPORT` header (ASE), an XML document whose start holds a `<COLLADA` element,
+    /// an STL (`solid` or a binary whose triangle count matches the size exactly), an OBJ (lines
+    /// starting with OBJ keywords, at least one `v`), and finally a list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         if bytes.starts_with(b"glTF") {
             return Some(Format::Glb);
@@ -151,6 +156,9 @@ impl Format {
         }
         if bytes.starts_with(b"IDP3") {
             return Some(Format::Md3);
+        }
+        if bytes.starts_with(b"INTERQUAKEMODEL\0") {
+            return Some(Format::Iqm);
         }
         if spm::magic_matches(bytes) {
             return Some(Format::Spm);
@@ -212,6 +220,7 @@ impl Format {
             Format::Ac3d => "AC3D",
             Format::Dae => "COLLADA",
             Format::Ase => "ASE",
+            Format::Iqm => "IQM",
         }
     }
 }
@@ -317,7 +326,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE, IQM or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -384,6 +393,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Ac3d => ac3d::read(bytes, limits),
         Format::Dae => dae::read(bytes, limits),
         Format::Ase => ase::read(bytes, limits),
+        Format::Iqm => iqm::read(bytes, limits),
     }
 }
 
