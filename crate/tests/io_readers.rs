@@ -443,7 +443,8 @@ fn format_names() {
             "AC3D",
             "COLLADA",
             "ASE",
-            "IQM"
+            "IQM",
+            "MD5"
         ]
     );
 }

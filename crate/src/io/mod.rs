@@ -3,8 +3,8 @@
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
 //! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
-//! (Warzone 2100), AC3D (FlightGear), ASE (3ds Max ASCII export) and IQM (Inter-Quake Model);
-//! and COLLADA (`.dae`), as used by the robot descriptions.
+//! (Warzone 2100), AC3D (FlightGear), ASE (3ds Max ASCII export), IQM (Inter-Quake Model) and
+//! MD5 (`.md5mesh`, Doom 3); and COLLADA (`.dae`), as used by the robot descriptions.
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -31,6 +31,7 @@ mod gltf;
 mod iqm;
 mod md2;
 mod md3;
+mod md5;
 mod obj;
 mod pie;
 mod ply;
@@ -56,6 +57,7 @@ pub use dae::{
     read_dae,
 };
 pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
+pub use md5::MAX_WEIGHTS_PER_VERTEX as MD5_MAX_WEIGHTS_PER_VERTEX;
 pub use obj::write_obj;
 pub use ply::{MAX_HEADER_BYTES as PLY_MAX_HEADER_BYTES, write_ply};
 
@@ -89,11 +91,13 @@ pub enum Format {
     Ase,
     /// Inter-Quake Model (`.iqm`, binary, version 2), bind pose.
     Iqm,
+    /// Doom 3 mesh (`.md5mesh`, text), bind pose.
+    Md5,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 15] = [
+    pub const ALL: [Format; 16] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -109,6 +113,7 @@ impl Format {
         Format::Dae,
         Format::Ase,
         Format::Iqm,
+        Format::Md5,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -130,6 +135,7 @@ impl Format {
             "dae" => Format::Dae,
             "ase" => Format::Ase,
             "iqm" => Format::Iqm,
+            "md5mesh" => Format::Md5,
             _ => return None,
         })
     }
@@ -138,9 +144,10 @@ impl Format {
     ///
     /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `INTERQUAKEMODEL`, `SP` with a
     /// known version byte), then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an
-    /// `*3DSMAX_ASCIIEXPORT` header (ASE), an XML document whose start holds a `<COLLADA` element,
-    /// an STL (`solid` or a binary whose triangle count matches the size exactly), an OBJ (lines
-    /// starting with OBJ keywords, at least one `v`), and finally a list of numbers (points).
+    /// `*3DSMAX_ASCIIEXPORT` header (ASE), an `MD5Version` header, an XML document whose start
+    /// holds a `<COLLADA` element, an STL (`solid` or a binary whose triangle count matches the
+    /// size exactly), an OBJ (lines starting with OBJ keywords, at least one `v`), and finally a
+    /// list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         if bytes.starts_with(b"glTF") {
             return Some(Format::Glb);
@@ -188,6 +195,9 @@ impl Format {
         if text.starts_with("*3DSMAX_ASCIIEXPORT") {
             return Some(Format::Ase);
         }
+        if text.starts_with("MD5Version") {
+            return Some(Format::Md5);
+        }
         if text.starts_with('<') && text.contains("<COLLADA") {
             return Some(Format::Dae);
         }
@@ -221,6 +231,7 @@ impl Format {
             Format::Dae => "COLLADA",
             Format::Ase => "ASE",
             Format::Iqm => "IQM",
+            Format::Md5 => "MD5",
         }
     }
 }
@@ -326,7 +337,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE, IQM or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE, IQM, MD5 or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -394,6 +405,7 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Dae => dae::read(bytes, limits),
         Format::Ase => ase::read(bytes, limits),
         Format::Iqm => iqm::read(bytes, limits),
+        Format::Md5 => md5::read(bytes, limits),
     }
 }
 

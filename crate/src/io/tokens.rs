@@ -1,4 +1,4 @@
-//! A byte-level tokenizer for the keyword-and-brace text formats (ASE).
+//! A byte-level tokenizer for the keyword-and-brace text formats (ASE, MD5).
 //!
 //! Tokens are separated by ASCII whitespace; a `"` starts a quoted token that ends at the next
 //! `"` or at the end of the line (the quotes are not part of it); each byte of `punct` is a
@@ -143,6 +143,19 @@ impl<'a> Tokens<'a> {
     /// The next token; `Truncated` at the end of the input.
     pub(crate) fn expect_any(&mut self) -> Result<Token<'a>, ReadError> {
         self.next().ok_or_else(|| self.eof())
+    }
+
+    /// The next token, which must be `s`.
+    pub(crate) fn expect(&mut self, s: &str) -> Result<Token<'a>, ReadError> {
+        let t = self.expect_any()?;
+        if !t.is(s) {
+            return Err(malformed(
+                self.format,
+                t.loc(),
+                format!("`{}` where `{s}` was expected", t.show()),
+            ));
+        }
+        Ok(t)
     }
 
     /// The next token parsed as a `T`; `what` names it in the error.
