@@ -19,8 +19,8 @@ fn fixtures() -> PathBuf {
 /// unpacked, with the members of their archives extracted) and prints, per format, how many
 /// were read, how many of those enclose a positive / negative signed volume, the mean
 /// agreement of stored normals with the faces, the failures counted by error kind, and the
-/// first errors.
-/// `MESHFLOW_GAME_DATA=/work/scratch-game cargo test -p meshflow --test io_game -- --ignored --nocapture`
+/// first errors. `scripts/extract_meshes.py DIR` makes such a folder from the data cache:
+/// `MESHFLOW_GAME_DATA=DIR cargo test -p meshflow --test io_game -- --ignored --nocapture`
 #[test]
 #[ignore]
 fn survey_real_packages() {
