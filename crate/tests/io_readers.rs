@@ -440,7 +440,11 @@ fn format_names() {
             "MD2",
             "MD3",
             "PIE",
-            "AC3D"
+            "AC3D",
+            "COLLADA",
+            "ASE",
+            "IQM",
+            "MD5"
         ]
     );
 }

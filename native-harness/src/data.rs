@@ -1524,7 +1524,7 @@ mod tests {
     }
 
     /// A fake package: a loose OBJ, a zip of fixtures (with a nested .pk3, a copy of a mesh
-    /// under another name, a collision mesh, an unsupported .md5mesh and a texture).
+    /// under another name, a collision mesh, an unsupported .iqe and a texture).
     fn fake_package(root: &Path) -> PackageInput {
         let pkg = root.join("pkg");
         fs::create_dir_all(pkg.join("usr/share/game")).unwrap();
@@ -1551,7 +1551,7 @@ mod tests {
                 fixture("solo_lower_leg.obj"),
             ),
             ("meshes/broken.obj", b"v 1 2\nf 1 2 3\n".to_vec()),
-            ("meshes/horse.md5mesh", b"MD5Version 10".to_vec()),
+            ("meshes/horse.iqe", b"# Inter-Quake Export".to_vec()),
             ("textures/horse.png", b"\x89PNG".to_vec()),
             ("more.pk3", nested),
         ]);
@@ -1612,7 +1612,7 @@ mod tests {
 
         let src = &a.sources["fake-data"];
         assert_eq!(src.skipped.get("unsupported_format"), Some(&1));
-        assert_eq!(src.unsupported_extensions.get("md5mesh"), Some(&1));
+        assert_eq!(src.unsupported_extensions.get("iqe"), Some(&1));
         assert_eq!(src.skipped.get("collision"), Some(&1));
         assert_eq!(src.skipped.get("duplicate"), Some(&1), "{:?}", src.skipped);
         assert_eq!(
@@ -1734,7 +1734,10 @@ mod tests {
         assert!(matches!(classify("a/b.OBJ"), Kind::Mesh));
         assert!(matches!(classify("a/b.pk3"), Kind::Archive));
         assert!(matches!(classify("a/b.md2"), Kind::Mesh));
-        assert!(matches!(classify("a/b.md5mesh"), Kind::Unsupported(e) if e == "md5mesh"));
+        for new in ["a/b.md5mesh", "a/b.DAE", "a/b.ase", "a/b.iqm"] {
+            assert!(matches!(classify(new), Kind::Mesh), "{new}");
+        }
+        assert!(matches!(classify("a/b.iqe"), Kind::Unsupported(e) if e == "iqe"));
         assert!(matches!(classify("a/b.txt"), Kind::Other));
         assert!(matches!(classify("a/b.png"), Kind::Other));
         assert!(matches!(classify("x/collision/b.stl"), Kind::Collision));

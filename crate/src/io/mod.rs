@@ -3,7 +3,8 @@
 //! Readers: OBJ, PLY (ascii and binary), STL (ascii and binary), glTF 2.0 (`.gltf` JSON with
 //! `data:` or external buffers) and GLB, and plain point lists (XYZ/PTS/CSV/TXT); and the
 //! game-asset formats PMD (0 A.D.), SPM (SuperTuxKart), MD2 (Quake II), MD3 (Quake III), PIE
-//! (Warzone 2100) and AC3D (FlightGear).
+//! (Warzone 2100), AC3D (FlightGear), ASE (3ds Max ASCII export), IQM (Inter-Quake Model) and
+//! MD5 (`.md5mesh`, Doom 3); and COLLADA (`.dae`), as used by the robot descriptions.
 //! Writers: GLB, OBJ and binary little-endian PLY.
 //!
 //! Every reader takes untrusted bytes: it never panics, checks every declared count against
@@ -23,10 +24,14 @@
 //!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
 mod ac3d;
+mod ase;
 mod base64;
+mod dae;
 mod gltf;
+mod iqm;
 mod md2;
 mod md3;
+mod md5;
 mod obj;
 mod pie;
 mod ply;
@@ -34,6 +39,7 @@ mod pmd;
 mod points;
 mod spm;
 mod stl;
+mod tokens;
 
 use std::fmt;
 use std::path::Path;
@@ -43,8 +49,15 @@ use glam::Vec3;
 use crate::mesh::{Mesh, MeshError};
 
 pub use ac3d::MAX_DEPTH as AC3D_MAX_DEPTH;
+pub use ase::MAX_DEPTH as ASE_MAX_DEPTH;
 pub use base64::encode as encode_base64;
+pub use dae::{
+    DaeInfo, MAX_NODE_DEPTH as DAE_MAX_NODE_DEPTH, MAX_NODE_VISITS as DAE_MAX_NODE_VISITS,
+    MAX_XML_ATTRIBUTES as DAE_MAX_XML_ATTRIBUTES, MAX_XML_NODES as DAE_MAX_XML_NODES, UpAxis,
+    read_dae,
+};
 pub use gltf::{MAX_NODE_DEPTH, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, write_glb};
+pub use md5::MAX_WEIGHTS_PER_VERTEX as MD5_MAX_WEIGHTS_PER_VERTEX;
 pub use obj::write_obj;
 pub use ply::{MAX_HEADER_BYTES as PLY_MAX_HEADER_BYTES, write_ply};
 
@@ -72,11 +85,19 @@ pub enum Format {
     Pie,
     /// AC3D model (`.ac`, text), as used by FlightGear.
     Ac3d,
+    /// COLLADA document (`.dae`, XML), converted to metres and +Y up.
+    Dae,
+    /// 3ds Max ASCII export (`.ase`, text).
+    Ase,
+    /// Inter-Quake Model (`.iqm`, binary, version 2), bind pose.
+    Iqm,
+    /// Doom 3 mesh (`.md5mesh`, text), bind pose.
+    Md5,
 }
 
 impl Format {
     /// Every format, in a stable order.
-    pub const ALL: [Format; 12] = [
+    pub const ALL: [Format; 16] = [
         Format::Obj,
         Format::Ply,
         Format::Stl,
@@ -89,6 +110,10 @@ impl Format {
         Format::Md3,
         Format::Pie,
         Format::Ac3d,
+        Format::Dae,
+        Format::Ase,
+        Format::Iqm,
+        Format::Md5,
     ];
 
     /// The format implied by a file extension (case-insensitive), if any.
@@ -107,16 +132,22 @@ impl Format {
             "md3" => Format::Md3,
             "pie" => Format::Pie,
             "ac" => Format::Ac3d,
+            "dae" => Format::Dae,
+            "ase" => Format::Ase,
+            "iqm" => Format::Iqm,
+            "md5mesh" => Format::Md5,
             _ => return None,
         })
     }
 
     /// Guesses the format from the first bytes of a file.
     ///
-    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `SP` with a known version byte),
-    /// then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an STL (`solid` or a
-    /// binary whose triangle count matches the size exactly), an OBJ (lines starting with OBJ
-    /// keywords, at least one `v`), and finally a list of numbers (points).
+    /// Magic numbers first (`glTF`, `ply`, `PSMD`, `IDP2`, `IDP3`, `INTERQUAKEMODEL`, `SP` with a
+    /// known version byte), then a JSON object (glTF), a `PIE ` header, an `AC3D` header, an
+    /// `*3DSMAX_ASCIIEXPORT` header (ASE), an `MD5Version` header, an XML document whose start
+    /// holds a `<COLLADA` element, an STL (`solid` or a binary whose triangle count matches the
+    /// size exactly), an OBJ (lines starting with OBJ keywords, at least one `v`), and finally a
+    /// list of numbers (points).
     pub fn sniff(bytes: &[u8]) -> Option<Format> {
         if bytes.starts_with(b"glTF") {
             return Some(Format::Glb);
@@ -132,6 +163,9 @@ impl Format {
         }
         if bytes.starts_with(b"IDP3") {
             return Some(Format::Md3);
+        }
+        if bytes.starts_with(b"INTERQUAKEMODEL\0") {
+            return Some(Format::Iqm);
         }
         if spm::magic_matches(bytes) {
             return Some(Format::Spm);
@@ -157,6 +191,15 @@ impl Format {
         }
         if text.starts_with("AC3Db") {
             return Some(Format::Ac3d);
+        }
+        if text.starts_with("*3DSMAX_ASCIIEXPORT") {
+            return Some(Format::Ase);
+        }
+        if text.starts_with("MD5Version") {
+            return Some(Format::Md5);
+        }
+        if text.starts_with('<') && text.contains("<COLLADA") {
+            return Some(Format::Dae);
         }
         if text.starts_with("solid") {
             return Some(Format::Stl);
@@ -185,6 +228,10 @@ impl Format {
             Format::Md3 => "MD3",
             Format::Pie => "PIE",
             Format::Ac3d => "AC3D",
+            Format::Dae => "COLLADA",
+            Format::Ase => "ASE",
+            Format::Iqm => "IQM",
+            Format::Md5 => "MD5",
         }
     }
 }
@@ -290,7 +337,7 @@ pub enum ReadError {
     #[error("{format}: not supported: {what}")]
     Unsupported { format: Format, what: String },
     #[error(
-        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D or a point list)"
+        "unrecognised file format (expected OBJ, PLY, STL, glTF, GLB, PMD, SPM, MD2, MD3, PIE, AC3D, COLLADA, ASE, IQM, MD5 or a point list)"
     )]
     UnknownFormat,
     #[error("{format} file is not valid UTF-8 text (byte {offset})")]
@@ -355,6 +402,10 @@ pub fn read_bytes(bytes: &[u8], format: Format, limits: &Limits) -> Result<Mesh,
         Format::Md3 => md3::read(bytes, limits),
         Format::Pie => pie::read(bytes, limits),
         Format::Ac3d => ac3d::read(bytes, limits),
+        Format::Dae => dae::read(bytes, limits),
+        Format::Ase => ase::read(bytes, limits),
+        Format::Iqm => iqm::read(bytes, limits),
+        Format::Md5 => md5::read(bytes, limits),
     }
 }
 
