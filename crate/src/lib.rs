@@ -11,7 +11,8 @@
 //! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
 //! - [`disjoint_sets`]: union-find, for welding classes and components.
 //! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
-//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics).
+//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics), and
+//!   the rotation of a source's up axis to the model frame's Y-up.
 //! - [`normals`]: area-weighted vertex normals.
 //! - [`topology`]: edges, adjacency, boundary loops, components, the topology report.
 //! - [`sample`]: seeded area-uniform surface sampling.
