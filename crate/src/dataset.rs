@@ -7,8 +7,8 @@
 //! # Shard layout (`meshflow-shard`, version 1)
 //!
 //! A shard is one [safetensors](https://huggingface.co/docs/safetensors) file holding `M`
-//! meshes, all already cleaned and normalised to the model frame (longest bounding-box side
-//! spanning [-1, 1], centred):
+//! meshes, all already cleaned, rotated to Y-up and normalised to the model frame (longest
+//! bounding-box side spanning [-1, 1], centred; see [`crate::normalize`]):
 //!
 //! | tensor           | dtype | shape            | content                                       |
 //! |------------------|-------|------------------|-----------------------------------------------|
@@ -42,6 +42,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::clean::CleanReport;
+use crate::normalize::UpAxis;
 use crate::topology::{TopologyReport, adjacency, edges};
 
 /// The `format` value in a shard's metadata.
@@ -462,7 +463,11 @@ pub struct ManifestEntry {
     pub max_degree: usize,
     pub topology: TopologyReport,
     pub clean: CleanReport,
-    /// The model-frame normalisation applied: `p_model = (p_source - center) * scale`.
+    /// The source's up axis: the mesh was rotated from it to the model frame's Y-up first
+    /// ([`UpAxis::to_y_up`]).
+    pub up_axis: UpAxis,
+    /// The model-frame normalisation applied after that rotation:
+    /// `p_model = (up_axis.to_y_up(p_source) - center) * scale`.
     pub center: [f32; 3],
     pub scale: f32,
     /// [`geometry_hash`] of the stored mesh, 16 hex digits.

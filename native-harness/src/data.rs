@@ -29,7 +29,7 @@ use meshflow::dataset::{
     split_key, split_of,
 };
 use meshflow::io::{Format, Limits, read_bytes};
-use meshflow::normalize::Normalization;
+use meshflow::normalize::{Normalization, UpAxis};
 use meshflow::topology::TopologyReport;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -38,7 +38,8 @@ use crate::BadInput;
 use crate::plot;
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
-const PIPELINE_VERSION: u32 = 1;
+/// 2: sources rotated to Y-up ([`UP_AXES`]).
+const PIPELINE_VERSION: u32 = 2;
 /// Rounding of model-frame coordinates for the duplicate hash.
 const HASH_QUANTUM: f32 = 1e-4;
 /// Shard size limits.
@@ -80,6 +81,62 @@ fn license_of(pkg: &PackageInput, path: &str) -> String {
         .iter()
         .find(|(p, fragment, _)| *p == pkg.name && path.contains(fragment))
         .map_or_else(|| pkg.license.clone(), |(_, _, l)| l.to_string())
+}
+
+/// Which way is up in each source, by package and file extension (`*`: any); the first
+/// matching row wins, and a package not listed is taken as Y-up. The build rotates every mesh
+/// to the model frame's Y-up ([`UpAxis::to_y_up`]) before normalising it and records the
+/// source's axis in the manifest (`up_axis`).
+///
+/// Evidence, from the 6,292-mesh build (shared/DATA.md sources): for each source and format,
+/// the axis on which objects rest on the origin (their minimum is ~0 while the other two
+/// axes are centred) and the longest axis of obviously upright objects (trees, towers, lamp
+/// posts, flags, statues, characters):
+/// - 0 A.D. PMD: rests on y in 24% of meshes (x, z: <1%); cypress, towers tall in y.
+/// - SuperTuxKart SPM: fir and pine trees, lamp posts tall in y (Irrlicht is Y-up).
+/// - Warzone 2100 PIE: rests on y in 60% (x, z: ~0).
+/// - Sweet Home 3D OBJ: rests on y in 41%; chairs, lamps, doors tall in y.
+/// - FlightGear AC3D: rests on y in 36%; towers tall in y (AC3D files are Y-up; FlightGear
+///   rotates them when it loads them).
+/// - Red Eclipse OBJ: rests on y in 60% (lamp post, pillar, safety post tall in y); its MD3
+///   vegetation rests on z (Cube engines are Z-up).
+/// - UFO:AI MD2 rests on z in 31% (x, y: ~0); its few OBJ (tanks, robots) rest on y.
+/// - Nexuiz MD3 rests on z in 37%; OpenArena MD3 flags, palm tree and statue are tall in z
+///   and teleporters rest on z (Quake III is Z-up); OpenArena's one OBJ rests on y.
+/// - Robot wheels (STL, OBJ, DAE): URDF/MJCF link frames are Z-up (ROS REP 103); gripper,
+///   leg and torso links are long in z. A DAE reader that applies the file's `<up_axis>`
+///   itself would need a `("*", "dae", UpAxis::Y)` row first.
+/// - ASE, IQM and MD5 (Quake/Cube-family and 3ds Max exports) are Z-up like MD3.
+pub const UP_AXES: [(&str, &str, UpAxis); 20] = [
+    ("0ad-data", "*", UpAxis::Y),
+    ("supertuxkart-data", "*", UpAxis::Y),
+    ("warzone2100-data", "*", UpAxis::Y),
+    ("sweethome3d-furniture", "*", UpAxis::Y),
+    ("flightgear-data-models", "*", UpAxis::Y),
+    ("redeclipse-data", "obj", UpAxis::Y),
+    ("redeclipse-data", "*", UpAxis::Z),
+    ("ufoai-data", "obj", UpAxis::Y),
+    ("ufoai-data", "*", UpAxis::Z),
+    ("nexuiz-data", "obj", UpAxis::Y),
+    ("nexuiz-data", "*", UpAxis::Z),
+    ("openarena-data", "obj", UpAxis::Y),
+    ("openarena-data", "*", UpAxis::Z),
+    ("robosuite", "*", UpAxis::Z),
+    ("example-robot-data", "*", UpAxis::Z),
+    ("dm-control", "*", UpAxis::Z),
+    ("rtb-data", "*", UpAxis::Z),
+    ("metaworld", "*", UpAxis::Z),
+    ("gymnasium-robotics", "*", UpAxis::Z),
+    ("pybullet", "*", UpAxis::Z),
+];
+
+/// The up axis of a mesh file of `package` ([`UP_AXES`]).
+pub fn up_axis_of(package: &str, path: &str) -> UpAxis {
+    let ext = extension(path);
+    UP_AXES
+        .iter()
+        .find(|(p, e, _)| *p == package && (*e == "*" || *e == ext))
+        .map_or(UpAxis::Y, |(_, _, axis)| *axis)
 }
 
 /// The PyPI projects of DATA.md's table and their licenses.
@@ -362,6 +419,7 @@ struct Record {
     max_degree: usize,
     topology: TopologyReport,
     clean: CleanReport,
+    up_axis: UpAxis,
     center: [f32; 3],
     scale: f32,
     content_hash: String,
@@ -586,8 +644,9 @@ fn error_kind(e: &meshflow::io::ReadError) -> String {
     out
 }
 
-/// Reads, cleans, filters and normalises one mesh file.
-fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
+/// Reads one mesh file of `package`, rotates it to Y-up ([`up_axis_of`]), cleans, filters and
+/// normalises it.
+fn process(package: &str, path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
     let ext = extension(path);
     let Some(format) = Format::from_path(Path::new(&format!("x.{ext}"))) else {
         return Outcome::Skipped("unsupported_format".into());
@@ -604,6 +663,8 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
         Err(e) => return Outcome::Skipped(format!("unreadable:{}", error_kind(&e))),
     };
     mesh.normals.clear();
+    let up_axis = up_axis_of(package, path);
+    let mesh = up_axis.mesh_to_y_up(&mesh);
     let (cleaned, report) = clean(&mesh, &CleanOptions::default());
     let max_degree = match filter(&cleaned, &opts.filter) {
         Ok(d) => d,
@@ -621,6 +682,7 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
         max_degree,
         topology: TopologyReport::of(&normalised),
         clean: report,
+        up_axis,
         center: norm.center.to_array(),
         scale: norm.scale,
         content_hash: format!("{:016x}", geometry_hash(&normalised, HASH_QUANTUM)),
@@ -628,7 +690,7 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
     Outcome::Kept(Box::new((record, normalised)))
 }
 
-fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
+fn run_batch(package: &str, batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
     let mut archive = match &batch.container {
         Some(c) => match open_container(c) {
             Ok(a) => Some(a),
@@ -656,7 +718,7 @@ fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
             _ => fs::read(abs).map_err(anyhow::Error::from),
         };
         let outcome = match bytes {
-            Ok(b) => process(path, &b, opts),
+            Ok(b) => process(package, path, &b, opts),
             Err(_) => Outcome::Skipped("unreadable:io".into()),
         };
         out.push((path.clone(), outcome));
@@ -796,7 +858,7 @@ fn process_package(
     let mut outcomes: Vec<(String, Outcome)> = batches
         .par_iter()
         .flat_map_iter(|b| {
-            let out = run_batch(b, opts);
+            let out = run_batch(&pkg.name, b, opts);
             bar.inc(out.len() as u64);
             out
         })
@@ -958,6 +1020,7 @@ pub fn build(
                 max_degree: r.max_degree,
                 topology: r.topology,
                 clean: r.clean,
+                up_axis: r.up_axis,
                 center: r.center,
                 scale: r.scale,
                 content_hash: r.content_hash,
@@ -1477,7 +1540,7 @@ pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<(
             center: e.center.into(),
             scale: e.scale,
         };
-        mesh = norm.inverse().apply_mesh(&mesh);
+        mesh = e.up_axis.mesh_from_y_up(&norm.inverse().apply_mesh(&mesh));
     }
     meshflow::io::write_path(&mesh, output)
         .with_context(|| format!("cannot write {}", output.display()))?;
@@ -1497,6 +1560,7 @@ pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use std::io::Write;
 
     fn fixture(name: &str) -> Vec<u8> {
@@ -1672,6 +1736,85 @@ mod tests {
         pkg = PackageInput::from_dir("fake-data", "1.0-1", "CC0-1.0", &root.join("pkg")).unwrap();
         let s = build(&[pkg], &root.join("out"), Some(&cache), &opts).unwrap();
         assert!(!s.sources["fake-data"].from_cache);
+        let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn up_axes_by_source_and_format() {
+        assert_eq!(
+            up_axis_of("ufoai-data", "base/0models.pk3!a/b.md2"),
+            UpAxis::Z
+        );
+        assert_eq!(
+            up_axis_of("ufoai-data", "base/0models.pk3!a/b.OBJ"),
+            UpAxis::Y
+        );
+        assert_eq!(
+            up_axis_of("openarena-data", "x.pk3!models/m.md3"),
+            UpAxis::Z
+        );
+        assert_eq!(up_axis_of("redeclipse-data", "data/a/tris.iqm"), UpAxis::Z);
+        assert_eq!(up_axis_of("0ad-data", "public.zip!art/m.pmd"), UpAxis::Y);
+        assert_eq!(
+            up_axis_of("flightgear-data-models", "Models/a.ac"),
+            UpAxis::Y
+        );
+        assert_eq!(up_axis_of("pybullet", "pybullet_data/a.obj"), UpAxis::Z);
+        assert_eq!(up_axis_of("robosuite", "r/meshes/a.stl"), UpAxis::Z);
+        assert_eq!(up_axis_of("fake-data", "a.obj"), UpAxis::Y);
+        // Every source of DATA.md has a row.
+        for (name, _) in DEBIAN_SOURCES.iter().chain(PYPI_SOURCES.iter()) {
+            assert!(UP_AXES.iter().any(|(p, _, _)| p == name), "{name}");
+        }
+    }
+
+    #[test]
+    fn a_z_up_source_is_rotated_to_y_up_and_back() {
+        let root = temp_dir("zup");
+        let mut pkg = fake_package(&root);
+        let opts = BuildOptions::default();
+        build(std::slice::from_ref(&pkg), &root.join("y"), None, &opts).unwrap();
+        pkg.name = "robosuite".into();
+        build(std::slice::from_ref(&pkg), &root.join("z"), None, &opts).unwrap();
+        let load = |dir: &str| -> BTreeMap<String, (ManifestEntry, Mesh)> {
+            let dir = root.join(dir);
+            read_manifest(&dir)
+                .unwrap()
+                .into_iter()
+                .map(|e| {
+                    let shard = Shard::from_bytes(&fs::read(dir.join(&e.shard)).unwrap()).unwrap();
+                    (e.path.clone(), (e.clone(), shard.mesh(e.index)))
+                })
+                .collect()
+        };
+        let (y, z) = (load("y"), load("z"));
+        assert_eq!(y.keys().collect::<Vec<_>>(), z.keys().collect::<Vec<_>>());
+        for (path, (ey, my)) in &y {
+            let (ez, mz) = &z[path];
+            assert_eq!((ey.up_axis, ez.up_axis), (UpAxis::Y, UpAxis::Z));
+            // The rotation only permutes and negates coordinates, so it is exact.
+            let rotated: Vec<Vec3> = my.positions.iter().map(|&p| UpAxis::Z.to_y_up(p)).collect();
+            assert_eq!(mz.positions, rotated, "{path}");
+            assert_eq!(mz.faces, my.faces, "{path}: same winding");
+        }
+        // `show --source-frame` undoes the rotation: the source file's box comes back.
+        let (e, _) = &z["usr/share/game/bread.obj"];
+        let out = root.join("bread.ply");
+        show(&root.join("z"), &e.id, &out, true).unwrap();
+        let shown = meshflow::io::read_path(&out, &Limits::default()).unwrap();
+        let original = meshflow::io::read_path(
+            &pkg.files
+                .iter()
+                .find(|f| f.rel.ends_with("bread.obj"))
+                .unwrap()
+                .abs,
+            &Limits::default(),
+        )
+        .unwrap();
+        let (a, b) = (shown.aabb().unwrap(), original.aabb().unwrap());
+        let tol = 1e-4 * b.max_extent();
+        assert!((a.min - b.min).abs().max_element() < tol, "{a:?} vs {b:?}");
+        assert!((a.max - b.max).abs().max_element() < tol, "{a:?} vs {b:?}");
         let _ = fs::remove_dir_all(&root);
     }
 

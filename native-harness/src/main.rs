@@ -138,7 +138,8 @@ enum DataCommand {
         /// The build's output folder [default: ~/.cache/meshflow/data/shards].
         #[arg(long)]
         dir: Option<PathBuf>,
-        /// Undo the model-frame normalisation (original position and size).
+        /// Undo the model-frame normalisation and the rotation to Y-up (original position,
+        /// size and orientation).
         #[arg(long)]
         source_frame: bool,
     },
