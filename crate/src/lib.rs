@@ -9,6 +9,7 @@
 //! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
 //! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
 //! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
+//! - [`cards`]: the billboard-card measure the dataset filter uses.
 //! - [`disjoint_sets`]: union-find, for welding classes and components.
 //! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
 //! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics), and
@@ -24,6 +25,7 @@
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
+pub mod cards;
 pub mod clean;
 pub mod dataset;
 pub mod disjoint_sets;

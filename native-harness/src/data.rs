@@ -38,7 +38,7 @@ use crate::BadInput;
 use crate::plot;
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
-/// 2: sources rotated to Y-up ([`UP_AXES`]).
+/// 2: sources rotated to Y-up ([`UP_AXES`]); the billboard-card filter.
 const PIPELINE_VERSION: u32 = 2;
 /// Rounding of model-frame coordinates for the duplicate hash.
 const HASH_QUANTUM: f32 = 1e-4;
