@@ -1028,6 +1028,48 @@ pub fn build(
             m,
         ));
     }
+    let texts = |name: &str| match packages.iter().find(|p| p.name == name) {
+        Some(pkg) => license_texts(pkg),
+        None => Ok(Vec::new()),
+    };
+    let (shards, splits) = write_dataset(out, &mut kept, &texts)?;
+    let mut skipped = BTreeMap::new();
+    for s in sources.values() {
+        for (k, v) in &s.skipped {
+            *skipped.entry(k.clone()).or_default() += v;
+        }
+    }
+    let summary = BuildSummary {
+        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
+        pipeline_version: PIPELINE_VERSION,
+        wall_time_s: (start.elapsed().as_secs_f64() * 1000.0).round() / 1000.0,
+        options: opts.clone(),
+        kept: kept.len() as u64,
+        splits,
+        skipped,
+        sources,
+        shards,
+    };
+    write_atomic(
+        &out.join("build.json"),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    Ok(summary)
+}
+
+/// Writes kept meshes as a dataset in `out`: `{split}-{k:05}.safetensors` shards (meshes
+/// sorted by split and id, a new shard when one reaches [`SHARD_MAX_MESHES`] or
+/// [`SHARD_MAX_BYTES`]; stale shards of an earlier run removed), `manifest.jsonl` (sorted by
+/// id, `shard` and `index` filled in here) and the attribution ([`write_attribution`], with
+/// `license_texts` giving a package's license files). `build` and `subset` both write through
+/// it, so a dataset written twice from the same entries and meshes is byte-identical. Returns
+/// the shards and the mesh count of each split.
+fn write_dataset(
+    out: &Path,
+    kept: &mut [(ManifestEntry, Mesh)],
+    license_texts: &LicenseTexts,
+) -> Result<(Vec<ShardSummary>, BTreeMap<String, u64>)> {
+    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     kept.sort_by(|a, b| (a.0.split, &a.0.id).cmp(&(b.0.split, &b.0.id)));
     // Stale shards of an earlier build would be mistaken for this one's.
     for p in list_dir(out)? {
@@ -1087,34 +1129,13 @@ pub fn build(
     let mut entries: Vec<&ManifestEntry> = kept.iter().map(|e| &e.0).collect();
     entries.sort_by(|a, b| a.id.cmp(&b.id));
     let mut manifest = Vec::new();
-    for e in entries {
+    for e in &entries {
         serde_json::to_writer(&mut manifest, e)?;
         manifest.push(b'\n');
     }
     write_atomic(&out.join("manifest.jsonl"), &manifest)?;
-    write_attribution(out, packages, kept.iter().map(|e| &e.0))?;
-    let mut skipped = BTreeMap::new();
-    for s in sources.values() {
-        for (k, v) in &s.skipped {
-            *skipped.entry(k.clone()).or_default() += v;
-        }
-    }
-    let summary = BuildSummary {
-        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
-        pipeline_version: PIPELINE_VERSION,
-        wall_time_s: (start.elapsed().as_secs_f64() * 1000.0).round() / 1000.0,
-        options: opts.clone(),
-        kept: kept.len() as u64,
-        splits,
-        skipped,
-        sources,
-        shards,
-    };
-    write_atomic(
-        &out.join("build.json"),
-        serde_json::to_string_pretty(&summary)?.as_bytes(),
-    )?;
-    Ok(summary)
+    write_attribution(out, entries.into_iter(), license_texts)?;
+    Ok((shards, splits))
 }
 
 /// True for the paths license texts have: Debian's `usr/share/doc/<name>/copyright`, a wheel's
@@ -1154,13 +1175,28 @@ fn license_texts(pkg: &PackageInput) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(found)
 }
 
+/// Package name -> its license texts as (path in the package, bytes).
+type LicenseTexts<'a> = dyn Fn(&str) -> Result<Vec<(String, Vec<u8>)>> + 'a;
+
+/// One license file copied to `licenses/`, as listed in `licenses/index.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct LicenseFile {
+    package: String,
+    /// The copy's name in `licenses/`.
+    file: String,
+    /// Where the text is in the package.
+    path: String,
+}
+
 /// Writes `ATTRIBUTION.md` (per package and license: version, how many meshes are used, where
-/// its license text is) and copies each used package's license files to `licenses/`, so any
-/// artefact derived from the shards can carry them. Per-mesh source paths are in the manifest.
+/// its license text is) and copies each used package's license files (`license_texts`:
+/// package name -> (path in the package, bytes)) to `licenses/`, listed in
+/// `licenses/index.json`, so any artefact derived from the shards can carry them and a subset
+/// can copy them on. Per-mesh source paths are in the manifest.
 fn write_attribution<'a>(
     out: &Path,
-    packages: &[PackageInput],
     entries: impl Iterator<Item = &'a ManifestEntry>,
+    license_texts: &LicenseTexts,
 ) -> Result<()> {
     let mut used: BTreeMap<(&str, &str, &str), usize> = BTreeMap::new();
     for e in entries {
@@ -1171,6 +1207,13 @@ fn write_attribution<'a>(
     let licenses_dir = out.join("licenses");
     fs::create_dir_all(&licenses_dir)
         .with_context(|| format!("cannot create {}", licenses_dir.display()))?;
+    // Copies of an earlier run's packages would otherwise linger.
+    for p in list_dir(&licenses_dir)? {
+        let n = file_name(&p);
+        if n.ends_with(".txt") || n == "index.json" {
+            fs::remove_file(&p).with_context(|| format!("cannot remove {}", p.display()))?;
+        }
+    }
     let mut text = String::from(
         "# Attribution\n\nThe meshes in these shards come from the packages below, under the \
          licenses listed. Each mesh's package, version, path inside the package and license are \
@@ -1178,16 +1221,22 @@ fn write_attribution<'a>(
          images, converted meshes) must carry this file and the `licenses/` folder.\n\n\
          | package | version | license | meshes | license files |\n|---|---|---|---:|---|\n",
     );
+    let mut index: Vec<LicenseFile> = Vec::new();
     for ((name, version, license), count) in &used {
-        let texts = match packages.iter().find(|p| p.name == *name) {
-            Some(pkg) => license_texts(pkg)?,
-            None => Vec::new(),
-        };
+        let texts = license_texts(name)?;
         let mut copied = Vec::new();
         for (k, (path, bytes)) in texts.iter().enumerate() {
             let dest = format!("{name}-{k}.txt");
             write_atomic(&licenses_dir.join(&dest), bytes)?;
             copied.push(format!("`licenses/{dest}` (`{path}`)"));
+            let file = LicenseFile {
+                package: name.to_string(),
+                file: dest,
+                path: path.clone(),
+            };
+            if !index.contains(&file) {
+                index.push(file);
+            }
         }
         let files = if copied.is_empty() {
             "none shipped in the package".to_string()
@@ -1198,6 +1247,10 @@ fn write_attribution<'a>(
             "| {name} | {version} | {license} | {count} | {files} |\n"
         ));
     }
+    write_atomic(
+        &licenses_dir.join("index.json"),
+        serde_json::to_string_pretty(&index)?.as_bytes(),
+    )?;
     write_atomic(&out.join("ATTRIBUTION.md"), text.as_bytes())
 }
 
