@@ -475,6 +475,23 @@ pub struct ManifestEntry {
     pub content_hash: String,
 }
 
+/// Licenses (SPDX ids, as the manifest writes them) that allow redistribution without
+/// copyleft: meshes under them may go into fixtures and examples, with their license text.
+pub const PERMISSIVE_LICENSES: [&str; 6] = [
+    "CC0-1.0",
+    "MIT",
+    "BSD-2-Clause",
+    "BSD-3-Clause",
+    "Apache-2.0",
+    "Zlib",
+];
+
+/// True when `license` is one of [`PERMISSIVE_LICENSES`] (exactly; a compound or per-asset
+/// license string is not).
+pub fn is_permissive(license: &str) -> bool {
+    PERMISSIVE_LICENSES.contains(&license)
+}
+
 /// 64-bit FNV-1a, a small stable hash (the same on every platform and run).
 #[derive(Clone, Copy, Debug)]
 pub struct Fnv64(u64);

@@ -1254,6 +1254,29 @@ fn write_attribution<'a>(
     write_atomic(&out.join("ATTRIBUTION.md"), text.as_bytes())
 }
 
+/// The license files a dataset in `dir` lists for `package` (`licenses/index.json`), as
+/// [`write_attribution`] takes them.
+fn dataset_license_texts(dir: &Path, package: &str) -> Result<Vec<(String, Vec<u8>)>> {
+    let index_path = dir.join("licenses/index.json");
+    let index: Vec<LicenseFile> =
+        serde_json::from_slice(&fs::read(&index_path).with_context(|| {
+            format!(
+                "cannot read {} (built before license indexes; rebuild)",
+                index_path.display()
+            )
+        })?)
+        .with_context(|| format!("{} is not a license index", index_path.display()))?;
+    index
+        .into_iter()
+        .filter(|f| f.package == package)
+        .map(|f| {
+            let p = dir.join("licenses").join(&f.file);
+            let bytes = fs::read(&p).with_context(|| format!("cannot read {}", p.display()))?;
+            Ok((f.path, bytes))
+        })
+        .collect()
+}
+
 // ---------------------------------------------------------------------------------------
 // build: the real packages
 
@@ -1415,6 +1438,186 @@ pub fn build_command(
         out.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------
+// subset
+
+/// What `meshflow data subset` selects (see [`subset`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SubsetOptions {
+    pub train: usize,
+    pub val: usize,
+    pub test: usize,
+    /// Only meshes with at most this many vertices.
+    pub max_vertices: usize,
+}
+
+impl Default for SubsetOptions {
+    fn default() -> Self {
+        Self {
+            train: 32,
+            val: 4,
+            test: 4,
+            max_vertices: 512,
+        }
+    }
+}
+
+/// `subset.json`: what a subset holds and where it came from.
+#[derive(Debug, Serialize)]
+pub struct SubsetSummary {
+    pub tool: String,
+    pub options: SubsetOptions,
+    /// The source build's pipeline version (from its `build.json`), when known.
+    pub source_pipeline_version: Option<u32>,
+    pub kept: usize,
+    pub splits: BTreeMap<String, u64>,
+    pub packages: BTreeMap<String, u64>,
+    pub shards: Vec<ShardSummary>,
+}
+
+/// Picks the subset's entries: for each split, the permissively licensed
+/// ([`meshflow::dataset::is_permissive`]) meshes of at most `max_vertices` vertices from the
+/// packages in `with_license_text` (a mesh cannot be redistributed without its license text),
+/// taken round-robin over packages so the sources vary (in name order, starting a third of
+/// the way further for each split so validation and test do not always start at the same
+/// package), and inside a package in id order (ids are hashes, so effectively a fixed random
+/// order), objects not yet taken ([`split_key`]) first. Deterministic: the same manifest gives
+/// the same subset.
+fn select_subset(
+    entries: &[ManifestEntry],
+    with_license_text: &std::collections::BTreeSet<String>,
+    opts: &SubsetOptions,
+) -> Vec<ManifestEntry> {
+    let packages: Vec<&String> = with_license_text.iter().collect();
+    let mut picked = Vec::new();
+    for (k, (split, quota)) in [
+        (Split::Train, opts.train),
+        (Split::Val, opts.val),
+        (Split::Test, opts.test),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut queues: Vec<std::collections::VecDeque<&ManifestEntry>> = packages
+            .iter()
+            .map(|package| {
+                let mut q: Vec<&ManifestEntry> = entries
+                    .iter()
+                    .filter(|e| {
+                        e.split == split
+                            && &&e.package == package
+                            && meshflow::dataset::is_permissive(&e.license)
+                            && e.vertices <= opts.max_vertices
+                    })
+                    .collect();
+                q.sort_by(|a, b| a.id.cmp(&b.id));
+                // One entry of each object first, then the rest.
+                let mut seen = std::collections::HashSet::new();
+                let (first, rest): (Vec<_>, Vec<_>) = q
+                    .into_iter()
+                    .partition(|e| seen.insert(split_key(&e.package, &e.path)));
+                first.into_iter().chain(rest).collect()
+            })
+            .collect();
+        let start = k * queues.len() / 3;
+        queues.rotate_left(start);
+        let mut taken = 0;
+        while taken < quota && queues.iter().any(|q| !q.is_empty()) {
+            for q in &mut queues {
+                if taken == quota {
+                    break;
+                }
+                if let Some(e) = q.pop_front() {
+                    picked.push(e.clone());
+                    taken += 1;
+                }
+            }
+        }
+    }
+    picked
+}
+
+/// Writes a small dataset to `out` from the built one in `dir` (see [`select_subset`]): its
+/// shards, manifest (entries unchanged except `shard` and `index`), attribution and the used
+/// packages' license files, all through [`write_dataset`] like the build, plus `subset.json`.
+pub fn subset(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<SubsetSummary> {
+    let entries = read_manifest(dir)?;
+    let packages: std::collections::BTreeSet<&String> =
+        entries.iter().map(|e| &e.package).collect();
+    let mut with_license_text = std::collections::BTreeSet::new();
+    for package in packages {
+        if !dataset_license_texts(dir, package)?.is_empty() {
+            with_license_text.insert(package.clone());
+        }
+    }
+    let picked = select_subset(&entries, &with_license_text, opts);
+    let mut shards: HashMap<String, Shard> = HashMap::new();
+    let mut kept = Vec::with_capacity(picked.len());
+    for e in picked {
+        if !shards.contains_key(&e.shard) {
+            let path = dir.join(&e.shard);
+            let bytes =
+                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+            let shard = Shard::from_bytes(&bytes)
+                .with_context(|| format!("{} is corrupt", path.display()))?;
+            shards.insert(e.shard.clone(), shard);
+        }
+        let Some(mesh) = shards[&e.shard].get(e.index) else {
+            bail!(
+                "{} has no mesh {} (manifest and shards disagree)",
+                e.shard,
+                e.index
+            );
+        };
+        kept.push((e, mesh));
+    }
+    let texts = |package: &str| dataset_license_texts(dir, package);
+    let (shard_summaries, splits) = write_dataset(out, &mut kept, &texts)?;
+    let mut packages = BTreeMap::new();
+    for (e, _) in &kept {
+        *packages.entry(e.package.clone()).or_default() += 1;
+    }
+    let source_pipeline_version = fs::read(dir.join("build.json"))
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .and_then(|v| v["pipeline_version"].as_u64())
+        .map(|v| v as u32);
+    let summary = SubsetSummary {
+        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
+        options: opts.clone(),
+        source_pipeline_version,
+        kept: kept.len(),
+        splits,
+        packages,
+        shards: shard_summaries,
+    };
+    write_atomic(
+        &out.join("subset.json"),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    Ok(summary)
+}
+
+pub fn subset_command(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<()> {
+    let s = subset(dir, out, opts)?;
+    let g = |k: &str| s.splits.get(k).copied().unwrap_or(0);
+    println!(
+        "{} meshes ({} train, {} val, {} test) from {} packages -> {}",
+        s.kept,
+        g("train"),
+        g("val"),
+        g("test"),
+        s.packages.len(),
+        out.display()
+    );
+    for (p, n) in &s.packages {
+        println!("  {p:<24}{n:>4}");
+    }
+    let bytes: u64 = s.shards.iter().map(|x| x.bytes).sum();
+    println!("{} shards, {} bytes", s.shards.len(), bytes);
     Ok(())
 }
 
