@@ -2074,6 +2074,80 @@ mod tests {
         let _ = fs::remove_dir_all(&root);
     }
 
+    /// The committed fixture dataset (tests/fixtures/dataset, written by `meshflow data
+    /// subset` from a full build).
+    fn fixture_dataset() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/dataset")
+    }
+
+    #[test]
+    fn the_fixture_dataset_rewrites_byte_identically() {
+        let dir = fixture_dataset();
+        let entries = read_manifest(&dir).unwrap();
+        let mut kept: Vec<(ManifestEntry, Mesh)> = entries
+            .iter()
+            .map(|e| {
+                let shard = Shard::from_bytes(&fs::read(dir.join(&e.shard)).unwrap()).unwrap();
+                (e.clone(), shard.mesh(e.index))
+            })
+            .collect();
+        let root = temp_dir("fixture-rewrite");
+        let texts = |package: &str| dataset_license_texts(&dir, package);
+        let (shards, _) = write_dataset(&root, &mut kept, &texts).unwrap();
+        let mut names: Vec<String> = shards.iter().map(|s| s.file.clone()).collect();
+        names.extend(["manifest.jsonl", "ATTRIBUTION.md", "licenses/index.json"].map(String::from));
+        for name in &names {
+            assert_eq!(
+                fs::read(root.join(name)).unwrap(),
+                fs::read(dir.join(name)).unwrap(),
+                "{name} differs when the fixture is written again"
+            );
+        }
+        let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn subset_picks_permissive_small_meshes_across_sources_and_keeps_splits() {
+        // The fixture is a dataset too: a subset of it is a smaller, valid one.
+        let dir = fixture_dataset();
+        let root = temp_dir("subset");
+        let opts = SubsetOptions {
+            train: 6,
+            val: 1,
+            test: 1,
+            max_vertices: 300,
+        };
+        let s = subset(&dir, &root, &opts).unwrap();
+        let entries = read_manifest(&root).unwrap();
+        assert_eq!(entries.len(), s.kept);
+        let all = read_manifest(&dir).unwrap();
+        for e in &entries {
+            let source = all.iter().find(|a| a.id == e.id).unwrap();
+            assert_eq!(
+                (e.split, &e.path, e.content_hash.as_str()),
+                (source.split, &source.path, source.content_hash.as_str())
+            );
+            assert!(meshflow::dataset::is_permissive(&e.license) && e.vertices <= 300);
+            let shard = Shard::from_bytes(&fs::read(root.join(&e.shard)).unwrap()).unwrap();
+            assert_eq!(
+                format!("{:016x}", geometry_hash(&shard.mesh(e.index), HASH_QUANTUM)),
+                e.content_hash
+            );
+        }
+        assert!(s.splits["train"] <= 6 && s.splits["val"] <= 1 && s.splits["test"] <= 1);
+        assert!(
+            s.packages.len() > 1,
+            "round-robin over sources: {:?}",
+            s.packages
+        );
+        // Deterministic, and the same again through the subset of the subset's own picks.
+        let again = temp_dir("subset-again");
+        subset(&dir, &again, &opts).unwrap();
+        assert_eq!(read_out(&root), read_out(&again));
+        let _ = fs::remove_dir_all(&root);
+        let _ = fs::remove_dir_all(&again);
+    }
+
     #[test]
     fn histogram_png_has_fixed_size_and_is_deterministic() {
         let panels = || {
