@@ -2,12 +2,13 @@
 //! from a full build): real training meshes in the shard format, for tests that must run where
 //! the source packages are not (CI). Checks that it loads, that the manifest describes the
 //! shards exactly, that it may be redistributed (permissive licenses, license texts present),
-//! and that writing it again gives the same bytes.
+//! that writing it again gives the same bytes, and that the loader runs on it.
 
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use meshflow::augment::{AugmentOptions, Loader, ShardSet};
 use meshflow::dataset::{
     FilterOptions, ManifestEntry, Shard, ShardWriter, Split, filter, geometry_hash, is_permissive,
     split_key, split_of,
@@ -127,4 +128,24 @@ fn writing_the_meshes_again_gives_the_same_bytes() {
         }
         assert!(w.finish() == bytes, "{name} is not what the writer writes");
     }
+}
+
+#[test]
+fn the_loader_runs_on_the_fixture() {
+    let shards: Vec<Vec<u8>> = shards().into_values().collect();
+    let set = ShardSet::from_bytes(&shards).unwrap();
+    let opts = AugmentOptions {
+        points: 512,
+        ..AugmentOptions::default()
+    };
+    let mut seen = 0;
+    for sample in Loader::new(&set, opts, 1, 0) {
+        let s = sample.unwrap();
+        let b = s.mesh.aabb().unwrap();
+        assert!(b.min.min_element() >= -1.0 - 1e-5 && b.max.max_element() <= 1.0 + 1e-5);
+        assert_eq!(s.mesh.normals.len(), s.mesh.positions.len());
+        assert_eq!(s.points.len(), 512);
+        seen += 1;
+    }
+    assert_eq!(seen, set.len());
 }
