@@ -7,8 +7,8 @@
 //! # Shard layout (`meshflow-shard`, version 1)
 //!
 //! A shard is one [safetensors](https://huggingface.co/docs/safetensors) file holding `M`
-//! meshes, all already cleaned and normalised to the model frame (longest bounding-box side
-//! spanning [-1, 1], centred):
+//! meshes, all already cleaned, rotated to Y-up and normalised to the model frame (longest
+//! bounding-box side spanning [-1, 1], centred; see [`crate::normalize`]):
 //!
 //! | tensor           | dtype | shape            | content                                       |
 //! |------------------|-------|------------------|-----------------------------------------------|
@@ -41,7 +41,9 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::cards::card_area_share;
 use crate::clean::CleanReport;
+use crate::normalize::UpAxis;
 use crate::topology::{TopologyReport, adjacency, edges};
 
 /// The `format` value in a shard's metadata.
@@ -462,11 +464,32 @@ pub struct ManifestEntry {
     pub max_degree: usize,
     pub topology: TopologyReport,
     pub clean: CleanReport,
-    /// The model-frame normalisation applied: `p_model = (p_source - center) * scale`.
+    /// The source's up axis: the mesh was rotated from it to the model frame's Y-up first
+    /// ([`UpAxis::to_y_up`]).
+    pub up_axis: UpAxis,
+    /// The model-frame normalisation applied after that rotation:
+    /// `p_model = (up_axis.to_y_up(p_source) - center) * scale`.
     pub center: [f32; 3],
     pub scale: f32,
     /// [`geometry_hash`] of the stored mesh, 16 hex digits.
     pub content_hash: String,
+}
+
+/// Licenses (SPDX ids, as the manifest writes them) that allow redistribution without
+/// copyleft: meshes under them may go into fixtures and examples, with their license text.
+pub const PERMISSIVE_LICENSES: [&str; 6] = [
+    "CC0-1.0",
+    "MIT",
+    "BSD-2-Clause",
+    "BSD-3-Clause",
+    "Apache-2.0",
+    "Zlib",
+];
+
+/// True when `license` is one of [`PERMISSIVE_LICENSES`] (exactly; a compound or per-asset
+/// license string is not).
+pub fn is_permissive(license: &str) -> bool {
+    PERMISSIVE_LICENSES.contains(&license)
 }
 
 /// 64-bit FNV-1a, a small stable hash (the same on every platform and run).
@@ -557,6 +580,11 @@ pub struct FilterOptions {
     pub min_faces: usize,
     /// Smallest bounding-box side relative to the largest (removes billboards and decals).
     pub min_aspect: f32,
+    /// Largest share of the area that may lie in billboard cards
+    /// ([`crate::cards::card_area_share`]); a mesh at or above it is rejected.
+    pub card_max_share: f32,
+    /// Most faces a flat free sheet may have to count as a card (a quad is 2).
+    pub card_max_faces: usize,
 }
 
 impl Default for FilterOptions {
@@ -567,6 +595,8 @@ impl Default for FilterOptions {
             max_degree: 50,
             min_faces: 20,
             min_aspect: 0.02,
+            card_max_share: 0.75,
+            card_max_faces: 8,
         }
     }
 }
@@ -580,6 +610,8 @@ pub enum FilterReason {
     TooFewFaces,
     Flat,
     DegreeTooHigh,
+    /// Mostly billboard cards: crossed or free-standing quads (see [`crate::cards`]).
+    Card,
 }
 
 impl FilterReason {
@@ -590,12 +622,17 @@ impl FilterReason {
             FilterReason::TooFewFaces => "too_few_faces",
             FilterReason::Flat => "flat",
             FilterReason::DegreeTooHigh => "degree_too_high",
+            FilterReason::Card => "card",
         }
     }
 }
 
 /// Applies the filter to a *cleaned* mesh (welded, unreferenced vertices dropped); returns
-/// its max vertex degree when it passes.
+/// its max vertex degree when it passes. The checks, in [`FilterReason`]'s order: vertex and
+/// face counts, the bounding box's aspect ("flat": one side under `min_aspect` of the longest,
+/// which catches single billboards and decals), vertex degree, then the per-face card test
+/// ([`card_area_share`]: crossed billboards and other meshes made mostly of free-standing
+/// quads, which a bounding box cannot see).
 pub fn filter(mesh: &Mesh, opts: &FilterOptions) -> Result<usize, FilterReason> {
     if mesh.positions.len() > opts.max_vertices {
         return Err(FilterReason::TooManyVertices);
@@ -614,6 +651,9 @@ pub fn filter(mesh: &Mesh, opts: &FilterOptions) -> Result<usize, FilterReason> 
     let degree = max_degree(mesh);
     if degree > opts.max_degree {
         return Err(FilterReason::DegreeTooHigh);
+    }
+    if card_area_share(mesh, opts.card_max_faces) >= opts.card_max_share {
+        return Err(FilterReason::Card);
     }
     Ok(degree)
 }
@@ -917,6 +957,83 @@ mod tests {
         };
         assert_eq!(filter(&squash(0.019), &f), Err(FilterReason::Flat));
         assert!(filter(&squash(0.021), &f).is_ok());
+    }
+
+    #[test]
+    fn crossed_billboards_are_cards_but_boxes_are_not() {
+        use crate::cards::push_quad;
+        let f = FilterOptions::default();
+        // A billboard tree: ten vertical quads crossing at the trunk's axis (20 faces); its
+        // bounding box is not flat.
+        let mut tree = Mesh::default();
+        for k in 0..10 {
+            let a = std::f32::consts::PI * k as f32 / 10.0;
+            push_quad(
+                &mut tree,
+                Vec3::Y,
+                Vec3::new(a.cos(), 0.0, a.sin()),
+                Vec3::Y,
+            );
+        }
+        assert_eq!(filter(&tree, &f), Err(FilterReason::Card));
+        // Ordinary low-poly solids of big flat faces pass: a subdivided box ...
+        let (box_mesh, _) = crate::clean::clean(
+            &subdivide(&subdivide(&crate::primitives::cube())),
+            &crate::clean::CleanOptions::default(),
+        );
+        assert!(box_mesh.faces.len() >= 20);
+        assert!(filter(&box_mesh, &f).is_ok());
+        // ... and a house: the box with a gable roof on top (open underneath).
+        let mut house = box_mesh.clone();
+        house.faces.retain(|face| {
+            !face
+                .iter()
+                .all(|&i| (house.positions[i as usize].y + 1.0).abs() < 1e-6)
+        });
+        let (r0, r1) = (
+            house.positions.len() as u32,
+            house.positions.len() as u32 + 1,
+        );
+        house
+            .positions
+            .extend([Vec3::new(-1.0, 2.0, 0.0), Vec3::new(1.0, 2.0, 0.0)]);
+        let corner = |x: f32, z: f32| {
+            house
+                .positions
+                .iter()
+                .position(|p| *p == Vec3::new(x, 1.0, z))
+                .unwrap() as u32
+        };
+        let (a, b, c, d) = (
+            corner(-1.0, -1.0),
+            corner(1.0, -1.0),
+            corner(1.0, 1.0),
+            corner(-1.0, 1.0),
+        );
+        house.faces.extend([
+            [a, r0, b],
+            [b, r0, r1],
+            [c, r1, d],
+            [d, r1, r0],
+            [a, d, r0],
+            [b, r1, c],
+        ]);
+        assert!(filter(&house, &f).is_ok());
+    }
+
+    /// Splits every triangle into four at its edge midpoints.
+    fn subdivide(m: &Mesh) -> Mesh {
+        let mut out = Mesh::default();
+        for f in 0..m.faces.len() {
+            let [a, b, c] = m.triangle(f);
+            let (ab, bc, ca) = ((a + b) * 0.5, (b + c) * 0.5, (c + a) * 0.5);
+            for t in [[a, ab, ca], [ab, b, bc], [ca, bc, c], [ab, bc, ca]] {
+                let base = out.positions.len() as u32;
+                out.positions.extend(t);
+                out.faces.push([base, base + 1, base + 2]);
+            }
+        }
+        out
     }
 
     #[test]

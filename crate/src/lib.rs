@@ -9,9 +9,13 @@
 //! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
 //! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
 //! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
+//! - [`cards`]: the billboard-card measure the dataset filter uses.
+//! - [`augment`]: training-time augmentation (rotation about Y, scale jitter, surface points)
+//!   and a seeded, shuffled loader over shards.
 //! - [`disjoint_sets`]: union-find, for welding classes and components.
 //! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
-//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics).
+//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics), and
+//!   the rotation of a source's up axis to the model frame's Y-up.
 //! - [`normals`]: area-weighted vertex normals.
 //! - [`topology`]: edges, adjacency, boundary loops, components, the topology report.
 //! - [`sample`]: seeded area-uniform surface sampling.
@@ -23,6 +27,8 @@
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
+pub mod augment;
+pub mod cards;
 pub mod clean;
 pub mod condition;
 pub mod dataset;

@@ -1,10 +1,15 @@
-//! Bounding-box normalisation: a uniform scale and a translation, and its inverse.
+//! Bounding-box normalisation: a uniform scale and a translation, and its inverse; and the
+//! rotation that brings a source's up axis to the model frame's.
 //!
 //! The model works in [-1, 1] (the box's longest side spans [-1, 1], centred); the metrics of
 //! DESIGN.md section 3 work in [-0.5, 0.5] computed from the ground truth's box and applied to
 //! the prediction too. Scaling is uniform, so normals are unchanged.
+//!
+//! The model frame is **Y-up** (as in glTF): +Y points up, and the training data is rotated
+//! there from each source's own convention ([`UpAxis`]) before it is normalised.
 
-use glam::Vec3;
+use glam::{Mat3, Vec3};
+use serde::{Deserialize, Serialize};
 
 use crate::{Aabb, Mesh};
 
@@ -71,10 +76,113 @@ impl Normalization {
     }
 }
 
+/// Which axis points up in a source's coordinates. The model frame is Y-up (glTF's
+/// convention); [`UpAxis::to_y_up`] is the proper rotation (determinant +1, so handedness and
+/// face winding are kept) that takes a source's coordinates there.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum UpAxis {
+    /// +Y up (glTF, PMD, SPM, PIE, AC3D, most OBJ exports): nothing to do.
+    #[default]
+    Y,
+    /// +Z up (Quake-family MD2/MD3, Blender, ROS/URDF robot meshes): rotated by -90 degrees
+    /// about X, `(x, y, z) -> (x, z, -y)`, the same map Blender's glTF exporter applies.
+    Z,
+}
+
+impl UpAxis {
+    pub fn name(&self) -> &'static str {
+        match self {
+            UpAxis::Y => "y",
+            UpAxis::Z => "z",
+        }
+    }
+
+    /// The rotation from the source's coordinates to the Y-up model frame.
+    pub fn rotation(&self) -> Mat3 {
+        match self {
+            UpAxis::Y => Mat3::IDENTITY,
+            // Columns are the images of the source's X, Y and Z axes.
+            UpAxis::Z => Mat3::from_cols(Vec3::X, -Vec3::Z, Vec3::Y),
+        }
+    }
+
+    /// A point or direction from the source's coordinates to Y-up. Exact: it only permutes
+    /// and negates coordinates.
+    pub fn to_y_up(&self, p: Vec3) -> Vec3 {
+        match self {
+            UpAxis::Y => p,
+            UpAxis::Z => Vec3::new(p.x, p.z, -p.y),
+        }
+    }
+
+    /// The inverse of [`UpAxis::to_y_up`].
+    pub fn from_y_up(&self, p: Vec3) -> Vec3 {
+        match self {
+            UpAxis::Y => p,
+            UpAxis::Z => Vec3::new(p.x, -p.z, p.y),
+        }
+    }
+
+    /// Rotates a mesh's positions and normals to Y-up (faces are unchanged: a rotation keeps
+    /// their winding).
+    pub fn mesh_to_y_up(&self, mesh: &Mesh) -> Mesh {
+        Mesh {
+            positions: mesh.positions.iter().map(|&p| self.to_y_up(p)).collect(),
+            normals: mesh.normals.iter().map(|&n| self.to_y_up(n)).collect(),
+            faces: mesh.faces.clone(),
+        }
+    }
+
+    /// The inverse of [`UpAxis::mesh_to_y_up`].
+    pub fn mesh_from_y_up(&self, mesh: &Mesh) -> Mesh {
+        Mesh {
+            positions: mesh.positions.iter().map(|&p| self.from_y_up(p)).collect(),
+            normals: mesh.normals.iter().map(|&n| self.from_y_up(n)).collect(),
+            faces: mesh.faces.clone(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::grid;
+    use crate::normals::face_normal;
+    use crate::primitives::{grid, icosphere};
+
+    #[test]
+    fn up_axis_rotation_is_proper_and_keeps_winding() {
+        for axis in [UpAxis::Y, UpAxis::Z] {
+            let r = axis.rotation();
+            assert_eq!(r.determinant(), 1.0, "{axis:?}: a proper rotation");
+            assert!((r.transpose() * r).abs_diff_eq(Mat3::IDENTITY, 0.0));
+            for p in [Vec3::X, Vec3::Y, Vec3::Z, Vec3::new(1.5, -2.0, 0.25)] {
+                assert_eq!(
+                    axis.to_y_up(p),
+                    r * p,
+                    "{axis:?}: the matrix and the fast path agree"
+                );
+                assert_eq!(axis.from_y_up(axis.to_y_up(p)), p);
+            }
+            // A rotated outward-facing sphere is still outward-facing: the winding is kept.
+            let mut m = icosphere(1);
+            m.positions
+                .iter_mut()
+                .for_each(|p| *p += Vec3::new(3.0, -1.0, 2.0));
+            let rotated = axis.mesh_to_y_up(&m);
+            for f in 0..m.faces.len() {
+                let before = face_normal(m.triangle(f));
+                let after = face_normal(rotated.triangle(f));
+                assert!((axis.to_y_up(before) - after).length() < 1e-5, "face {f}");
+            }
+            assert_eq!(axis.mesh_from_y_up(&rotated), m);
+        }
+        // Z-up's up becomes the model frame's up; its forward (+Y) goes to -Z.
+        assert_eq!(UpAxis::Z.to_y_up(Vec3::Z), Vec3::Y);
+        assert_eq!(UpAxis::Z.to_y_up(Vec3::Y), -Vec3::Z);
+        assert_eq!(UpAxis::Z.to_y_up(Vec3::X), Vec3::X);
+        assert_eq!(serde_json::to_string(&UpAxis::Z).unwrap(), "\"z\"");
+    }
 
     #[test]
     fn frames_and_inverse() {

@@ -29,7 +29,7 @@ use meshflow::dataset::{
     split_key, split_of,
 };
 use meshflow::io::{Format, Limits, read_bytes};
-use meshflow::normalize::Normalization;
+use meshflow::normalize::{Normalization, UpAxis};
 use meshflow::topology::TopologyReport;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
@@ -38,7 +38,9 @@ use crate::BadInput;
 use crate::plot;
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
-const PIPELINE_VERSION: u32 = 1;
+/// 2: sources rotated to Y-up ([`UP_AXES`]); the billboard-card filter.
+/// 3: COLLADA, ASE, IQM and MD5 readers.
+const PIPELINE_VERSION: u32 = 3;
 /// Rounding of model-frame coordinates for the duplicate hash.
 const HASH_QUANTUM: f32 = 1e-4;
 /// Shard size limits.
@@ -80,6 +82,63 @@ fn license_of(pkg: &PackageInput, path: &str) -> String {
         .iter()
         .find(|(p, fragment, _)| *p == pkg.name && path.contains(fragment))
         .map_or_else(|| pkg.license.clone(), |(_, _, l)| l.to_string())
+}
+
+/// Which way is up in each source, by package and file extension (`*`: any); the first
+/// matching row wins, and a package not listed is taken as Y-up. The build rotates every mesh
+/// to the model frame's Y-up ([`UpAxis::to_y_up`]) before normalising it and records the
+/// source's axis in the manifest (`up_axis`).
+///
+/// Evidence, from the 6,292-mesh build (shared/DATA.md sources): for each source and format,
+/// the axis on which objects rest on the origin (their minimum is ~0 while the other two
+/// axes are centred) and the longest axis of obviously upright objects (trees, towers, lamp
+/// posts, flags, statues, characters):
+/// - 0 A.D. PMD: rests on y in 24% of meshes (x, z: <1%); cypress, towers tall in y.
+/// - SuperTuxKart SPM: fir and pine trees, lamp posts tall in y (Irrlicht is Y-up).
+/// - Warzone 2100 PIE: rests on y in 60% (x, z: ~0).
+/// - Sweet Home 3D OBJ: rests on y in 41%; chairs, lamps, doors tall in y.
+/// - FlightGear AC3D: rests on y in 36%; towers tall in y (AC3D files are Y-up; FlightGear
+///   rotates them when it loads them).
+/// - Red Eclipse OBJ: rests on y in 60% (lamp post, pillar, safety post tall in y); its MD3
+///   vegetation rests on z (Cube engines are Z-up).
+/// - UFO:AI MD2 rests on z in 31% (x, y: ~0); its few OBJ (tanks, robots) rest on y.
+/// - Nexuiz MD3 rests on z in 37%; OpenArena MD3 flags, palm tree and statue are tall in z
+///   and teleporters rest on z (Quake III is Z-up); OpenArena's one OBJ rests on y.
+/// - Robot wheels (STL, OBJ, DAE): URDF/MJCF link frames are Z-up (ROS REP 103); gripper,
+///   leg and torso links are long in z. COLLADA files declare their `<up_axis>` and the DAE
+///   reader already turns them to Y-up, hence the first row (any package).
+/// - ASE, IQM and MD5 (Quake/Cube-family and 3ds Max exports) are Z-up like MD3.
+pub const UP_AXES: [(&str, &str, UpAxis); 21] = [
+    ("*", "dae", UpAxis::Y),
+    ("0ad-data", "*", UpAxis::Y),
+    ("supertuxkart-data", "*", UpAxis::Y),
+    ("warzone2100-data", "*", UpAxis::Y),
+    ("sweethome3d-furniture", "*", UpAxis::Y),
+    ("flightgear-data-models", "*", UpAxis::Y),
+    ("redeclipse-data", "obj", UpAxis::Y),
+    ("redeclipse-data", "*", UpAxis::Z),
+    ("ufoai-data", "obj", UpAxis::Y),
+    ("ufoai-data", "*", UpAxis::Z),
+    ("nexuiz-data", "obj", UpAxis::Y),
+    ("nexuiz-data", "*", UpAxis::Z),
+    ("openarena-data", "obj", UpAxis::Y),
+    ("openarena-data", "*", UpAxis::Z),
+    ("robosuite", "*", UpAxis::Z),
+    ("example-robot-data", "*", UpAxis::Z),
+    ("dm-control", "*", UpAxis::Z),
+    ("rtb-data", "*", UpAxis::Z),
+    ("metaworld", "*", UpAxis::Z),
+    ("gymnasium-robotics", "*", UpAxis::Z),
+    ("pybullet", "*", UpAxis::Z),
+];
+
+/// The up axis of a mesh file of `package` ([`UP_AXES`]).
+pub fn up_axis_of(package: &str, path: &str) -> UpAxis {
+    let ext = extension(path);
+    UP_AXES
+        .iter()
+        .find(|(p, e, _)| (*p == "*" || *p == package) && (*e == "*" || *e == ext))
+        .map_or(UpAxis::Y, |(_, _, axis)| *axis)
 }
 
 /// The PyPI projects of DATA.md's table and their licenses.
@@ -362,6 +421,7 @@ struct Record {
     max_degree: usize,
     topology: TopologyReport,
     clean: CleanReport,
+    up_axis: UpAxis,
     center: [f32; 3],
     scale: f32,
     content_hash: String,
@@ -586,8 +646,9 @@ fn error_kind(e: &meshflow::io::ReadError) -> String {
     out
 }
 
-/// Reads, cleans, filters and normalises one mesh file.
-fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
+/// Reads one mesh file of `package`, rotates it to Y-up ([`up_axis_of`]), cleans, filters and
+/// normalises it.
+fn process(package: &str, path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
     let ext = extension(path);
     let Some(format) = Format::from_path(Path::new(&format!("x.{ext}"))) else {
         return Outcome::Skipped("unsupported_format".into());
@@ -604,6 +665,8 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
         Err(e) => return Outcome::Skipped(format!("unreadable:{}", error_kind(&e))),
     };
     mesh.normals.clear();
+    let up_axis = up_axis_of(package, path);
+    let mesh = up_axis.mesh_to_y_up(&mesh);
     let (cleaned, report) = clean(&mesh, &CleanOptions::default());
     let max_degree = match filter(&cleaned, &opts.filter) {
         Ok(d) => d,
@@ -621,6 +684,7 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
         max_degree,
         topology: TopologyReport::of(&normalised),
         clean: report,
+        up_axis,
         center: norm.center.to_array(),
         scale: norm.scale,
         content_hash: format!("{:016x}", geometry_hash(&normalised, HASH_QUANTUM)),
@@ -628,7 +692,7 @@ fn process(path: &str, bytes: &[u8], opts: &BuildOptions) -> Outcome {
     Outcome::Kept(Box::new((record, normalised)))
 }
 
-fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
+fn run_batch(package: &str, batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
     let mut archive = match &batch.container {
         Some(c) => match open_container(c) {
             Ok(a) => Some(a),
@@ -656,7 +720,7 @@ fn run_batch(batch: &Batch, opts: &BuildOptions) -> Vec<(String, Outcome)> {
             _ => fs::read(abs).map_err(anyhow::Error::from),
         };
         let outcome = match bytes {
-            Ok(b) => process(path, &b, opts),
+            Ok(b) => process(package, path, &b, opts),
             Err(_) => Outcome::Skipped("unreadable:io".into()),
         };
         out.push((path.clone(), outcome));
@@ -796,7 +860,7 @@ fn process_package(
     let mut outcomes: Vec<(String, Outcome)> = batches
         .par_iter()
         .flat_map_iter(|b| {
-            let out = run_batch(b, opts);
+            let out = run_batch(&pkg.name, b, opts);
             bar.inc(out.len() as u64);
             out
         })
@@ -958,6 +1022,7 @@ pub fn build(
                 max_degree: r.max_degree,
                 topology: r.topology,
                 clean: r.clean,
+                up_axis: r.up_axis,
                 center: r.center,
                 scale: r.scale,
                 content_hash: r.content_hash,
@@ -965,6 +1030,48 @@ pub fn build(
             m,
         ));
     }
+    let texts = |name: &str| match packages.iter().find(|p| p.name == name) {
+        Some(pkg) => license_texts(pkg),
+        None => Ok(Vec::new()),
+    };
+    let (shards, splits) = write_dataset(out, &mut kept, &texts)?;
+    let mut skipped = BTreeMap::new();
+    for s in sources.values() {
+        for (k, v) in &s.skipped {
+            *skipped.entry(k.clone()).or_default() += v;
+        }
+    }
+    let summary = BuildSummary {
+        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
+        pipeline_version: PIPELINE_VERSION,
+        wall_time_s: (start.elapsed().as_secs_f64() * 1000.0).round() / 1000.0,
+        options: opts.clone(),
+        kept: kept.len() as u64,
+        splits,
+        skipped,
+        sources,
+        shards,
+    };
+    write_atomic(
+        &out.join("build.json"),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    Ok(summary)
+}
+
+/// Writes kept meshes as a dataset in `out`: `{split}-{k:05}.safetensors` shards (meshes
+/// sorted by split and id, a new shard when one reaches [`SHARD_MAX_MESHES`] or
+/// [`SHARD_MAX_BYTES`]; stale shards of an earlier run removed), `manifest.jsonl` (sorted by
+/// id, `shard` and `index` filled in here) and the attribution ([`write_attribution`], with
+/// `license_texts` giving a package's license files). `build` and `subset` both write through
+/// it, so a dataset written twice from the same entries and meshes is byte-identical. Returns
+/// the shards and the mesh count of each split.
+fn write_dataset(
+    out: &Path,
+    kept: &mut [(ManifestEntry, Mesh)],
+    license_texts: &LicenseTexts,
+) -> Result<(Vec<ShardSummary>, BTreeMap<String, u64>)> {
+    fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     kept.sort_by(|a, b| (a.0.split, &a.0.id).cmp(&(b.0.split, &b.0.id)));
     // Stale shards of an earlier build would be mistaken for this one's.
     for p in list_dir(out)? {
@@ -1024,34 +1131,13 @@ pub fn build(
     let mut entries: Vec<&ManifestEntry> = kept.iter().map(|e| &e.0).collect();
     entries.sort_by(|a, b| a.id.cmp(&b.id));
     let mut manifest = Vec::new();
-    for e in entries {
+    for e in &entries {
         serde_json::to_writer(&mut manifest, e)?;
         manifest.push(b'\n');
     }
     write_atomic(&out.join("manifest.jsonl"), &manifest)?;
-    write_attribution(out, packages, kept.iter().map(|e| &e.0))?;
-    let mut skipped = BTreeMap::new();
-    for s in sources.values() {
-        for (k, v) in &s.skipped {
-            *skipped.entry(k.clone()).or_default() += v;
-        }
-    }
-    let summary = BuildSummary {
-        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
-        pipeline_version: PIPELINE_VERSION,
-        wall_time_s: (start.elapsed().as_secs_f64() * 1000.0).round() / 1000.0,
-        options: opts.clone(),
-        kept: kept.len() as u64,
-        splits,
-        skipped,
-        sources,
-        shards,
-    };
-    write_atomic(
-        &out.join("build.json"),
-        serde_json::to_string_pretty(&summary)?.as_bytes(),
-    )?;
-    Ok(summary)
+    write_attribution(out, entries.into_iter(), license_texts)?;
+    Ok((shards, splits))
 }
 
 /// True for the paths license texts have: Debian's `usr/share/doc/<name>/copyright`, a wheel's
@@ -1091,13 +1177,28 @@ fn license_texts(pkg: &PackageInput) -> Result<Vec<(String, Vec<u8>)>> {
     Ok(found)
 }
 
+/// Package name -> its license texts as (path in the package, bytes).
+type LicenseTexts<'a> = dyn Fn(&str) -> Result<Vec<(String, Vec<u8>)>> + 'a;
+
+/// One license file copied to `licenses/`, as listed in `licenses/index.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+struct LicenseFile {
+    package: String,
+    /// The copy's name in `licenses/`.
+    file: String,
+    /// Where the text is in the package.
+    path: String,
+}
+
 /// Writes `ATTRIBUTION.md` (per package and license: version, how many meshes are used, where
-/// its license text is) and copies each used package's license files to `licenses/`, so any
-/// artefact derived from the shards can carry them. Per-mesh source paths are in the manifest.
+/// its license text is) and copies each used package's license files (`license_texts`:
+/// package name -> (path in the package, bytes)) to `licenses/`, listed in
+/// `licenses/index.json`, so any artefact derived from the shards can carry them and a subset
+/// can copy them on. Per-mesh source paths are in the manifest.
 fn write_attribution<'a>(
     out: &Path,
-    packages: &[PackageInput],
     entries: impl Iterator<Item = &'a ManifestEntry>,
+    license_texts: &LicenseTexts,
 ) -> Result<()> {
     let mut used: BTreeMap<(&str, &str, &str), usize> = BTreeMap::new();
     for e in entries {
@@ -1108,6 +1209,13 @@ fn write_attribution<'a>(
     let licenses_dir = out.join("licenses");
     fs::create_dir_all(&licenses_dir)
         .with_context(|| format!("cannot create {}", licenses_dir.display()))?;
+    // Copies of an earlier run's packages would otherwise linger.
+    for p in list_dir(&licenses_dir)? {
+        let n = file_name(&p);
+        if n.ends_with(".txt") || n == "index.json" {
+            fs::remove_file(&p).with_context(|| format!("cannot remove {}", p.display()))?;
+        }
+    }
     let mut text = String::from(
         "# Attribution\n\nThe meshes in these shards come from the packages below, under the \
          licenses listed. Each mesh's package, version, path inside the package and license are \
@@ -1115,16 +1223,22 @@ fn write_attribution<'a>(
          images, converted meshes) must carry this file and the `licenses/` folder.\n\n\
          | package | version | license | meshes | license files |\n|---|---|---|---:|---|\n",
     );
+    let mut index: Vec<LicenseFile> = Vec::new();
     for ((name, version, license), count) in &used {
-        let texts = match packages.iter().find(|p| p.name == *name) {
-            Some(pkg) => license_texts(pkg)?,
-            None => Vec::new(),
-        };
+        let texts = license_texts(name)?;
         let mut copied = Vec::new();
         for (k, (path, bytes)) in texts.iter().enumerate() {
             let dest = format!("{name}-{k}.txt");
             write_atomic(&licenses_dir.join(&dest), bytes)?;
             copied.push(format!("`licenses/{dest}` (`{path}`)"));
+            let file = LicenseFile {
+                package: name.to_string(),
+                file: dest,
+                path: path.clone(),
+            };
+            if !index.contains(&file) {
+                index.push(file);
+            }
         }
         let files = if copied.is_empty() {
             "none shipped in the package".to_string()
@@ -1135,7 +1249,34 @@ fn write_attribution<'a>(
             "| {name} | {version} | {license} | {count} | {files} |\n"
         ));
     }
+    write_atomic(
+        &licenses_dir.join("index.json"),
+        serde_json::to_string_pretty(&index)?.as_bytes(),
+    )?;
     write_atomic(&out.join("ATTRIBUTION.md"), text.as_bytes())
+}
+
+/// The license files a dataset in `dir` lists for `package` (`licenses/index.json`), as
+/// [`write_attribution`] takes them.
+fn dataset_license_texts(dir: &Path, package: &str) -> Result<Vec<(String, Vec<u8>)>> {
+    let index_path = dir.join("licenses/index.json");
+    let index: Vec<LicenseFile> =
+        serde_json::from_slice(&fs::read(&index_path).with_context(|| {
+            format!(
+                "cannot read {} (built before license indexes; rebuild)",
+                index_path.display()
+            )
+        })?)
+        .with_context(|| format!("{} is not a license index", index_path.display()))?;
+    index
+        .into_iter()
+        .filter(|f| f.package == package)
+        .map(|f| {
+            let p = dir.join("licenses").join(&f.file);
+            let bytes = fs::read(&p).with_context(|| format!("cannot read {}", p.display()))?;
+            Ok((f.path, bytes))
+        })
+        .collect()
 }
 
 // ---------------------------------------------------------------------------------------
@@ -1299,6 +1440,186 @@ pub fn build_command(
         out.display(),
         start.elapsed().as_secs_f64()
     );
+    Ok(())
+}
+
+// ---------------------------------------------------------------------------------------
+// subset
+
+/// What `meshflow data subset` selects (see [`subset`]).
+#[derive(Clone, Debug, Serialize)]
+pub struct SubsetOptions {
+    pub train: usize,
+    pub val: usize,
+    pub test: usize,
+    /// Only meshes with at most this many vertices.
+    pub max_vertices: usize,
+}
+
+impl Default for SubsetOptions {
+    fn default() -> Self {
+        Self {
+            train: 32,
+            val: 4,
+            test: 4,
+            max_vertices: 512,
+        }
+    }
+}
+
+/// `subset.json`: what a subset holds and where it came from.
+#[derive(Debug, Serialize)]
+pub struct SubsetSummary {
+    pub tool: String,
+    pub options: SubsetOptions,
+    /// The source build's pipeline version (from its `build.json`), when known.
+    pub source_pipeline_version: Option<u32>,
+    pub kept: usize,
+    pub splits: BTreeMap<String, u64>,
+    pub packages: BTreeMap<String, u64>,
+    pub shards: Vec<ShardSummary>,
+}
+
+/// Picks the subset's entries: for each split, the permissively licensed
+/// ([`meshflow::dataset::is_permissive`]) meshes of at most `max_vertices` vertices from the
+/// packages in `with_license_text` (a mesh cannot be redistributed without its license text),
+/// taken round-robin over packages so the sources vary (in name order, starting a third of
+/// the way further for each split so validation and test do not always start at the same
+/// package), and inside a package in id order (ids are hashes, so effectively a fixed random
+/// order), objects not yet taken ([`split_key`]) first. Deterministic: the same manifest gives
+/// the same subset.
+fn select_subset(
+    entries: &[ManifestEntry],
+    with_license_text: &std::collections::BTreeSet<String>,
+    opts: &SubsetOptions,
+) -> Vec<ManifestEntry> {
+    let packages: Vec<&String> = with_license_text.iter().collect();
+    let mut picked = Vec::new();
+    for (k, (split, quota)) in [
+        (Split::Train, opts.train),
+        (Split::Val, opts.val),
+        (Split::Test, opts.test),
+    ]
+    .into_iter()
+    .enumerate()
+    {
+        let mut queues: Vec<std::collections::VecDeque<&ManifestEntry>> = packages
+            .iter()
+            .map(|package| {
+                let mut q: Vec<&ManifestEntry> = entries
+                    .iter()
+                    .filter(|e| {
+                        e.split == split
+                            && &&e.package == package
+                            && meshflow::dataset::is_permissive(&e.license)
+                            && e.vertices <= opts.max_vertices
+                    })
+                    .collect();
+                q.sort_by(|a, b| a.id.cmp(&b.id));
+                // One entry of each object first, then the rest.
+                let mut seen = std::collections::HashSet::new();
+                let (first, rest): (Vec<_>, Vec<_>) = q
+                    .into_iter()
+                    .partition(|e| seen.insert(split_key(&e.package, &e.path)));
+                first.into_iter().chain(rest).collect()
+            })
+            .collect();
+        let start = k * queues.len() / 3;
+        queues.rotate_left(start);
+        let mut taken = 0;
+        while taken < quota && queues.iter().any(|q| !q.is_empty()) {
+            for q in &mut queues {
+                if taken == quota {
+                    break;
+                }
+                if let Some(e) = q.pop_front() {
+                    picked.push(e.clone());
+                    taken += 1;
+                }
+            }
+        }
+    }
+    picked
+}
+
+/// Writes a small dataset to `out` from the built one in `dir` (see [`select_subset`]): its
+/// shards, manifest (entries unchanged except `shard` and `index`), attribution and the used
+/// packages' license files, all through [`write_dataset`] like the build, plus `subset.json`.
+pub fn subset(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<SubsetSummary> {
+    let entries = read_manifest(dir)?;
+    let packages: std::collections::BTreeSet<&String> =
+        entries.iter().map(|e| &e.package).collect();
+    let mut with_license_text = std::collections::BTreeSet::new();
+    for package in packages {
+        if !dataset_license_texts(dir, package)?.is_empty() {
+            with_license_text.insert(package.clone());
+        }
+    }
+    let picked = select_subset(&entries, &with_license_text, opts);
+    let mut shards: HashMap<String, Shard> = HashMap::new();
+    let mut kept = Vec::with_capacity(picked.len());
+    for e in picked {
+        if !shards.contains_key(&e.shard) {
+            let path = dir.join(&e.shard);
+            let bytes =
+                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+            let shard = Shard::from_bytes(&bytes)
+                .with_context(|| format!("{} is corrupt", path.display()))?;
+            shards.insert(e.shard.clone(), shard);
+        }
+        let Some(mesh) = shards[&e.shard].get(e.index) else {
+            bail!(
+                "{} has no mesh {} (manifest and shards disagree)",
+                e.shard,
+                e.index
+            );
+        };
+        kept.push((e, mesh));
+    }
+    let texts = |package: &str| dataset_license_texts(dir, package);
+    let (shard_summaries, splits) = write_dataset(out, &mut kept, &texts)?;
+    let mut packages = BTreeMap::new();
+    for (e, _) in &kept {
+        *packages.entry(e.package.clone()).or_default() += 1;
+    }
+    let source_pipeline_version = fs::read(dir.join("build.json"))
+        .ok()
+        .and_then(|b| serde_json::from_slice::<serde_json::Value>(&b).ok())
+        .and_then(|v| v["pipeline_version"].as_u64())
+        .map(|v| v as u32);
+    let summary = SubsetSummary {
+        tool: format!("meshflow {}", env!("CARGO_PKG_VERSION")),
+        options: opts.clone(),
+        source_pipeline_version,
+        kept: kept.len(),
+        splits,
+        packages,
+        shards: shard_summaries,
+    };
+    write_atomic(
+        &out.join("subset.json"),
+        serde_json::to_string_pretty(&summary)?.as_bytes(),
+    )?;
+    Ok(summary)
+}
+
+pub fn subset_command(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<()> {
+    let s = subset(dir, out, opts)?;
+    let g = |k: &str| s.splits.get(k).copied().unwrap_or(0);
+    println!(
+        "{} meshes ({} train, {} val, {} test) from {} packages -> {}",
+        s.kept,
+        g("train"),
+        g("val"),
+        g("test"),
+        s.packages.len(),
+        out.display()
+    );
+    for (p, n) in &s.packages {
+        println!("  {p:<24}{n:>4}");
+    }
+    let bytes: u64 = s.shards.iter().map(|x| x.bytes).sum();
+    println!("{} shards, {} bytes", s.shards.len(), bytes);
     Ok(())
 }
 
@@ -1477,7 +1798,7 @@ pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<(
             center: e.center.into(),
             scale: e.scale,
         };
-        mesh = norm.inverse().apply_mesh(&mesh);
+        mesh = e.up_axis.mesh_from_y_up(&norm.inverse().apply_mesh(&mesh));
     }
     meshflow::io::write_path(&mesh, output)
         .with_context(|| format!("cannot write {}", output.display()))?;
@@ -1497,6 +1818,7 @@ pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::Vec3;
     use std::io::Write;
 
     fn fixture(name: &str) -> Vec<u8> {
@@ -1673,6 +1995,161 @@ mod tests {
         let s = build(&[pkg], &root.join("out"), Some(&cache), &opts).unwrap();
         assert!(!s.sources["fake-data"].from_cache);
         let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn up_axes_by_source_and_format() {
+        assert_eq!(
+            up_axis_of("ufoai-data", "base/0models.pk3!a/b.md2"),
+            UpAxis::Z
+        );
+        assert_eq!(
+            up_axis_of("ufoai-data", "base/0models.pk3!a/b.OBJ"),
+            UpAxis::Y
+        );
+        assert_eq!(
+            up_axis_of("openarena-data", "x.pk3!models/m.md3"),
+            UpAxis::Z
+        );
+        assert_eq!(up_axis_of("redeclipse-data", "data/a/tris.iqm"), UpAxis::Z);
+        assert_eq!(up_axis_of("0ad-data", "public.zip!art/m.pmd"), UpAxis::Y);
+        assert_eq!(
+            up_axis_of("flightgear-data-models", "Models/a.ac"),
+            UpAxis::Y
+        );
+        assert_eq!(up_axis_of("pybullet", "pybullet_data/a.obj"), UpAxis::Z);
+        assert_eq!(up_axis_of("robosuite", "r/meshes/a.stl"), UpAxis::Z);
+        assert_eq!(up_axis_of("fake-data", "a.obj"), UpAxis::Y);
+        // COLLADA files come out of the reader Y-up, whatever the package.
+        assert_eq!(up_axis_of("robosuite", "r/meshes/a.dae"), UpAxis::Y);
+        // Every source of DATA.md has a row.
+        for (name, _) in DEBIAN_SOURCES.iter().chain(PYPI_SOURCES.iter()) {
+            assert!(UP_AXES.iter().any(|(p, _, _)| p == name), "{name}");
+        }
+    }
+
+    #[test]
+    fn a_z_up_source_is_rotated_to_y_up_and_back() {
+        let root = temp_dir("zup");
+        let mut pkg = fake_package(&root);
+        let opts = BuildOptions::default();
+        build(std::slice::from_ref(&pkg), &root.join("y"), None, &opts).unwrap();
+        pkg.name = "robosuite".into();
+        build(std::slice::from_ref(&pkg), &root.join("z"), None, &opts).unwrap();
+        let load = |dir: &str| -> BTreeMap<String, (ManifestEntry, Mesh)> {
+            let dir = root.join(dir);
+            read_manifest(&dir)
+                .unwrap()
+                .into_iter()
+                .map(|e| {
+                    let shard = Shard::from_bytes(&fs::read(dir.join(&e.shard)).unwrap()).unwrap();
+                    (e.path.clone(), (e.clone(), shard.mesh(e.index)))
+                })
+                .collect()
+        };
+        let (y, z) = (load("y"), load("z"));
+        assert_eq!(y.keys().collect::<Vec<_>>(), z.keys().collect::<Vec<_>>());
+        for (path, (ey, my)) in &y {
+            let (ez, mz) = &z[path];
+            assert_eq!((ey.up_axis, ez.up_axis), (UpAxis::Y, UpAxis::Z));
+            // The rotation only permutes and negates coordinates, so it is exact.
+            let rotated: Vec<Vec3> = my.positions.iter().map(|&p| UpAxis::Z.to_y_up(p)).collect();
+            assert_eq!(mz.positions, rotated, "{path}");
+            assert_eq!(mz.faces, my.faces, "{path}: same winding");
+        }
+        // `show --source-frame` undoes the rotation: the source file's box comes back.
+        let (e, _) = &z["usr/share/game/bread.obj"];
+        let out = root.join("bread.ply");
+        show(&root.join("z"), &e.id, &out, true).unwrap();
+        let shown = meshflow::io::read_path(&out, &Limits::default()).unwrap();
+        let original = meshflow::io::read_path(
+            &pkg.files
+                .iter()
+                .find(|f| f.rel.ends_with("bread.obj"))
+                .unwrap()
+                .abs,
+            &Limits::default(),
+        )
+        .unwrap();
+        let (a, b) = (shown.aabb().unwrap(), original.aabb().unwrap());
+        let tol = 1e-4 * b.max_extent();
+        assert!((a.min - b.min).abs().max_element() < tol, "{a:?} vs {b:?}");
+        assert!((a.max - b.max).abs().max_element() < tol, "{a:?} vs {b:?}");
+        let _ = fs::remove_dir_all(&root);
+    }
+
+    /// The committed fixture dataset (tests/fixtures/dataset, written by `meshflow data
+    /// subset` from a full build).
+    fn fixture_dataset() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/dataset")
+    }
+
+    #[test]
+    fn the_fixture_dataset_rewrites_byte_identically() {
+        let dir = fixture_dataset();
+        let entries = read_manifest(&dir).unwrap();
+        let mut kept: Vec<(ManifestEntry, Mesh)> = entries
+            .iter()
+            .map(|e| {
+                let shard = Shard::from_bytes(&fs::read(dir.join(&e.shard)).unwrap()).unwrap();
+                (e.clone(), shard.mesh(e.index))
+            })
+            .collect();
+        let root = temp_dir("fixture-rewrite");
+        let texts = |package: &str| dataset_license_texts(&dir, package);
+        let (shards, _) = write_dataset(&root, &mut kept, &texts).unwrap();
+        let mut names: Vec<String> = shards.iter().map(|s| s.file.clone()).collect();
+        names.extend(["manifest.jsonl", "ATTRIBUTION.md", "licenses/index.json"].map(String::from));
+        for name in &names {
+            assert_eq!(
+                fs::read(root.join(name)).unwrap(),
+                fs::read(dir.join(name)).unwrap(),
+                "{name} differs when the fixture is written again"
+            );
+        }
+        let _ = fs::remove_dir_all(&root);
+    }
+
+    #[test]
+    fn subset_picks_permissive_small_meshes_across_sources_and_keeps_splits() {
+        // The fixture is a dataset too: a subset of it is a smaller, valid one.
+        let dir = fixture_dataset();
+        let root = temp_dir("subset");
+        let opts = SubsetOptions {
+            train: 6,
+            val: 1,
+            test: 1,
+            max_vertices: 300,
+        };
+        let s = subset(&dir, &root, &opts).unwrap();
+        let entries = read_manifest(&root).unwrap();
+        assert_eq!(entries.len(), s.kept);
+        let all = read_manifest(&dir).unwrap();
+        for e in &entries {
+            let source = all.iter().find(|a| a.id == e.id).unwrap();
+            assert_eq!(
+                (e.split, &e.path, e.content_hash.as_str()),
+                (source.split, &source.path, source.content_hash.as_str())
+            );
+            assert!(meshflow::dataset::is_permissive(&e.license) && e.vertices <= 300);
+            let shard = Shard::from_bytes(&fs::read(root.join(&e.shard)).unwrap()).unwrap();
+            assert_eq!(
+                format!("{:016x}", geometry_hash(&shard.mesh(e.index), HASH_QUANTUM)),
+                e.content_hash
+            );
+        }
+        assert!(s.splits["train"] <= 6 && s.splits["val"] <= 1 && s.splits["test"] <= 1);
+        assert!(
+            s.packages.len() > 1,
+            "round-robin over sources: {:?}",
+            s.packages
+        );
+        // Deterministic, and the same again through the subset of the subset's own picks.
+        let again = temp_dir("subset-again");
+        subset(&dir, &again, &opts).unwrap();
+        assert_eq!(read_out(&root), read_out(&again));
+        let _ = fs::remove_dir_all(&root);
+        let _ = fs::remove_dir_all(&again);
     }
 
     #[test]

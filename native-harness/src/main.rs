@@ -163,9 +163,29 @@ enum DataCommand {
         /// The build's output folder [default: ~/.cache/meshflow/data/shards].
         #[arg(long)]
         dir: Option<PathBuf>,
-        /// Undo the model-frame normalisation (original position and size).
+        /// Undo the model-frame normalisation and the rotation to Y-up (original position,
+        /// size and orientation).
         #[arg(long)]
         source_frame: bool,
+    },
+    /// Writes a small dataset (same format) of permissively licensed, small meshes picked from
+    /// a build, round-robin over sources, keeping their splits: for tests and CI fixtures.
+    Subset {
+        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+        #[arg(long)]
+        dir: Option<PathBuf>,
+        /// Output folder (e.g. tests/fixtures/dataset).
+        #[arg(short, long)]
+        output: PathBuf,
+        #[arg(long, default_value_t = 32)]
+        train: usize,
+        #[arg(long, default_value_t = 4)]
+        val: usize,
+        #[arg(long, default_value_t = 4)]
+        test: usize,
+        /// Only meshes with at most this many vertices.
+        #[arg(long, default_value_t = 512)]
+        max_vertices: usize,
     },
 }
 
@@ -245,6 +265,23 @@ fn main() -> ExitCode {
                 &id,
                 &output,
                 source_frame,
+            ),
+            DataCommand::Subset {
+                dir,
+                output,
+                train,
+                val,
+                test,
+                max_vertices,
+            } => data::subset_command(
+                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                &output,
+                &data::SubsetOptions {
+                    train,
+                    val,
+                    test,
+                    max_vertices,
+                },
             ),
         },
         Command::Bench { which } => bench::run(which),
