@@ -6,16 +6,18 @@
 # the tests need (idempotently, so repeated runs are quick), then runs, in
 # order, stopping at the first failure:
 #   cargo fmt --all --check
-#   cargo test --workspace --all-targets --no-fail-fast
+#   cargo test --release --workspace --all-targets --no-fail-fast
 #                                          (lib, bins, integration tests, and
 #                                           benches compiled and run once)
-#   cargo test --workspace --doc           (--all-targets leaves doctests out)
+#   cargo test --release --workspace --doc (--all-targets leaves doctests out)
 #   cargo clippy --workspace --all-targets -- -D warnings
 # Each step prints its time; the last line is a plain
 # "summary: N passed, N failed, N skipped" tally of the cargo test results.
 #
 # Builds go to ${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target} so that
-# repeated runs, and scripts/demo.sh, reuse one build.
+# repeated runs, and scripts/demo.sh, reuse one build. Tests run in the release
+# profile: the models train and run there at usable speed, and Burn (the
+# largest dependency by far) is then compiled once for the CLI and the tests.
 
 set -euo pipefail
 
@@ -111,9 +113,9 @@ install_deps() {
 check_fmt() { cargo fmt --all --check; }
 
 # Test output is shown as it comes and also kept, to tally the results.
-run_tests() { cargo test --workspace --all-targets --no-fail-fast 2>&1 | tee "$LOG_DIR/test.log"; }
+run_tests() { cargo test --release --workspace --all-targets --no-fail-fast 2>&1 | tee "$LOG_DIR/test.log"; }
 
-run_doctests() { cargo test --workspace --doc 2>&1 | tee "$LOG_DIR/doctest.log"; }
+run_doctests() { cargo test --release --workspace --doc 2>&1 | tee "$LOG_DIR/doctest.log"; }
 
 check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 

@@ -151,7 +151,24 @@ pub fn augment(
     seed: u64,
 ) -> Result<TrainingSample, SampleError> {
     let mut rng = Rng::new(seed);
-    let mut aug = Augmentation::draw(opts, &mut rng);
+    let (out, aug) = transform(mesh, opts, &mut rng);
+    let points = sample_surface(&out, opts.points, rng.next_u64())?;
+    Ok(TrainingSample {
+        index: 0,
+        mesh: out,
+        points,
+        augmentation: aug,
+    })
+}
+
+/// Steps 1-4 of the module doc only (no point cloud): the augmented mesh and its transform,
+/// drawn from `rng`. The VAE trains on these.
+pub fn augment_mesh(mesh: &Mesh, opts: &AugmentOptions, rng: &mut Rng) -> (Mesh, Augmentation) {
+    transform(mesh, opts, rng)
+}
+
+fn transform(mesh: &Mesh, opts: &AugmentOptions, rng: &mut Rng) -> (Mesh, Augmentation) {
+    let mut aug = Augmentation::draw(opts, rng);
     let normals = if mesh.normals.len() == mesh.positions.len() {
         mesh.normals.clone()
     } else {
@@ -169,13 +186,7 @@ pub fn augment(
         normals: normals.iter().map(|&n| aug.normal(n)).collect(),
         faces: mesh.faces.clone(),
     };
-    let points = sample_surface(&out, opts.points, rng.next_u64())?;
-    Ok(TrainingSample {
-        index: 0,
-        mesh: out,
-        points,
-        augmentation: aug,
-    })
+    (out, aug)
 }
 
 /// The meshes of several shards under one index: shard by shard, in each shard's order.

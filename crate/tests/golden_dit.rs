@@ -13,7 +13,6 @@ const TOLERANCE: f32 = 1e-4;
 
 fn values<const D: usize>(t: Tensor<D>) -> Vec<f32> {
     t.into_data()
-        .unwrap()
         .convert::<f32>()
         .try_into_vec::<f32>()
         .unwrap()
@@ -44,7 +43,12 @@ fn run_forward(device: &Device) {
     let (g, dit) = load(device);
     let x = g.f32("input.x");
     let t = g.f32("input.timestep").data;
-    let rope_input = g.f32("input.rope_input").data;
+    let rope_input: Vec<f32> = g
+        .i64("input.rope_input")
+        .data
+        .iter()
+        .map(|&v| v as f32)
+        .collect();
     let positions: Vec<[f32; 3]> = rope_input
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])
@@ -122,7 +126,12 @@ fn run_sampling(device: &Device) {
     use meshflow::model::sampler::sample;
     use meshflow::model::schedule::ScheduleMode;
     let (g, dit) = load(device);
-    let rope_input = g.f32("input.rope_input").data;
+    let rope_input: Vec<f32> = g
+        .i64("input.rope_input")
+        .data
+        .iter()
+        .map(|&v| v as f32)
+        .collect();
     let positions: Vec<[f32; 3]> = rope_input
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])

@@ -9,7 +9,8 @@ use meshflow::Mesh;
 use meshflow::model::{MeshVae, VaeConfig, load_module};
 use meshflow::normalize::Normalization;
 use meshflow::primitives::{cube, grid, icosphere, octahedron};
-use meshflow::train::vae::{StepLog, TrainObserver, VaeTrainConfig, ValLog, train_vae, validate};
+use meshflow::train::TrainObserver;
+use meshflow::train::vae::{VaeTrainConfig, train_vae, validate};
 
 fn model_frame(m: Mesh) -> Mesh {
     Normalization::to_model_frame(m.aabb().unwrap()).apply_mesh(&m)
@@ -45,6 +46,7 @@ fn small_config(steps: usize) -> VaeTrainConfig {
     cfg.final_lr_ratio = 0.1;
     cfg.weight_decay = 0.0;
     cfg.kl_weight = 1e-4;
+    cfg.lambda_neg = 0.25;
     cfg.augment = false;
     cfg.eval_every = 1_000_000;
     cfg.checkpoint_every = 1_000_000;
@@ -57,11 +59,10 @@ struct Quiet {
 }
 
 impl TrainObserver for Quiet {
-    fn step(&mut self, log: &StepLog) {
-        self.last = log.step;
+    fn step(&mut self, step: usize, _: &str) {
+        self.last = step;
     }
-    fn validated(&mut self, _: &ValLog) {}
-    fn checkpointed(&mut self, _: usize) {}
+    fn note(&mut self, _: &str) {}
     fn stop(&self) -> bool {
         self.stop_at.is_some_and(|s| self.last >= s)
     }

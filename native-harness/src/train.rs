@@ -14,7 +14,8 @@ use meshflow::dataset::{Shard, Split};
 use meshflow::device::{BackendKind, device};
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
 use meshflow::tokens::build_tokens;
-use meshflow::train::vae::{StepLog, TrainObserver, VaeTrainConfig, ValLog, make_batch, train_vae};
+use meshflow::train::TrainObserver;
+use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae};
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
@@ -89,10 +90,15 @@ pub fn ship_config() -> VaeTrainConfig {
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 8;
-    cfg.steps = 4000;
+    cfg.steps = 2500;
     // Positions in the [-1, 1] frame have squared errors ~1e-4 when good; weight them up so
     // they are not drowned by the adjacency term.
     cfg.position_weight = 10.0;
+    // The paper's lambda_neg = 0.01 weighs each non-edge pair 1/100 of an edge, so the loss
+    // is minimised by predicting an edge at p > 0.01: a 233M model trained for days separates
+    // the pairs anyway, but at our size and budget it left edge precision at 0.05 (recall
+    // 0.79) after 500 steps. 0.25 puts the decision near F1's optimum (BENCHMARKS.md).
+    cfg.lambda_neg = 0.25;
     cfg.warmup_steps = 200;
     cfg.eval_every = 500;
     cfg.checkpoint_every = 250;
@@ -171,22 +177,14 @@ struct BarObserver {
 }
 
 impl TrainObserver for BarObserver {
-    fn step(&mut self, log: &StepLog) {
-        self.bar.set_position(log.step as u64);
-        self.bar.set_message(format!(
-            "loss {:.4} (adj {:.4}, pos {:.2e}) {:.1} meshes/s",
-            log.loss, log.adjacency, log.position, log.meshes_per_s
-        ));
+    fn step(&mut self, step: usize, summary: &str) {
+        self.bar.set_position(step as u64);
+        self.bar.set_message(summary.to_string());
     }
 
-    fn validated(&mut self, v: &ValLog) {
-        self.bar.println(format!(
-            "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
-            v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
-        ));
+    fn note(&mut self, line: &str) {
+        self.bar.println(line);
     }
-
-    fn checkpointed(&mut self, _step: usize) {}
 }
 
 /// What ships beside `vae.safetensors`.

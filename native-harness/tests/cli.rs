@@ -207,3 +207,165 @@ fn bad_input_is_one_line_and_status_2() {
         "sampling a point cloud is bad input"
     );
 }
+
+fn golden_dir() -> PathBuf {
+    std::env::var_os("MESHFLOW_GOLDEN_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| Path::new(env!("CARGO_MANIFEST_DIR")).join("../../shared/golden"))
+}
+
+#[test]
+fn verify_reproduces_the_golden_vectors_on_the_cpu() {
+    let out = meshflow(&["verify", "--golden", golden_dir().to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(stdout.contains("all tensors within"), "{stdout}");
+    assert!(!stdout.contains("FAIL"), "{stdout}");
+}
+
+/// A few-second VAE configuration over the fixture dataset (meshes of <= 512 vertices).
+const SMALL_TRAINING: &str = r#"{
+  "model": {"num_vertices": 512, "num_latents": 128, "latent_dim": 8, "width_encoder": 32,
+            "width_decoder": 32, "num_heads": 2, "num_layers_encoder": 1,
+            "num_layers_decoder": 1, "max_degree": 16, "num_freqs": 4, "edge_dim": 32,
+            "tau": 0.6},
+  "batch_size": 2, "steps": 4, "learning_rate": 0.001, "warmup_steps": 1,
+  "final_lr_ratio": 0.1, "weight_decay": 0.0, "grad_clip": 1.0, "kl_weight": 0.001,
+  "lambda_neg": 0.01, "position_weight": 10.0, "normal_weight": 1.0, "ema_decay": 0.9,
+  "seed": 3, "checkpoint_every": 2, "eval_every": 2, "augment": true, "scale_jitter": 0.1
+}"#;
+
+#[test]
+fn train_reconstruct_and_eval_on_the_fixture_dataset() {
+    let dir = temp_dir("train");
+    let run = dir.join("run");
+    let _ = std::fs::remove_dir_all(&run);
+    let config = dir.join("small.json");
+    std::fs::write(&config, SMALL_TRAINING).unwrap();
+    let data = fixture("dataset");
+    let out = meshflow(&[
+        "train",
+        "vae",
+        "--data",
+        data.to_str().unwrap(),
+        "--out",
+        run.to_str().unwrap(),
+        "--config",
+        config.to_str().unwrap(),
+        "--val-meshes",
+        "2",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(run.join("vae.manifest.json")).unwrap()).unwrap();
+    assert_eq!(
+        manifest["train_meshes"], 32,
+        "every fixture train mesh fits N = 512"
+    );
+    assert_eq!(manifest["latent_mean"].as_array().unwrap().len(), 8);
+    assert!(manifest["sha256"].as_str().unwrap().len() == 64);
+    let log = std::fs::read_to_string(run.join("metrics.jsonl")).unwrap();
+    let steps = log.lines().filter(|l| l.contains("\"loss\"")).count();
+    assert_eq!(steps, 4, "one metrics line per step");
+    assert!(log.contains("edge_f1"), "validation lines are logged");
+
+    let glb = dir.join("bread.glb");
+    let bread = fixture("meshes/bread.obj");
+    let out = meshflow(&[
+        "reconstruct",
+        bread.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        run.to_str().unwrap(),
+        "--json",
+    ]);
+    let report = json(&out);
+    assert_eq!(report["vertices"], 216);
+    assert!(report["edge_f1"].as_f64().unwrap() >= 0.0);
+    assert!(glb.is_file());
+
+    let eval = dir.join("eval.json");
+    let out = meshflow(&[
+        "eval",
+        "vae",
+        "--weights",
+        run.to_str().unwrap(),
+        "--data",
+        data.to_str().unwrap(),
+        "--split",
+        "test",
+        "-o",
+        eval.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&eval).unwrap()).unwrap();
+    assert_eq!(report["all"]["meshes"], 4);
+    assert_eq!(report["token_compression"], 4.0);
+    assert_eq!(report["buckets"].as_array().unwrap().len(), 3);
+
+    // Weights that do not match their manifest are refused, with a reason.
+    let tampered = dir.join("tampered");
+    std::fs::create_dir_all(&tampered).unwrap();
+    for f in ["vae.json", "vae.manifest.json"] {
+        std::fs::copy(run.join(f), tampered.join(f)).unwrap();
+    }
+    let mut bytes = std::fs::read(run.join("vae.safetensors")).unwrap();
+    let last = bytes.len() - 1;
+    bytes[last] ^= 1;
+    std::fs::write(tampered.join("vae.safetensors"), bytes).unwrap();
+    let out = meshflow(&[
+        "reconstruct",
+        bread.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        tampered.to_str().unwrap(),
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("sha256"));
+
+    // Bad requests: an unknown configuration, a point cloud to reconstruct.
+    let out = meshflow(&[
+        "train",
+        "vae",
+        "--out",
+        run.to_str().unwrap(),
+        "--config",
+        "nope",
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let points = fixture("points/stone_lantern_2048.ply");
+    let out = meshflow(&[
+        "reconstruct",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        run.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        out.status.code(),
+        Some(2),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

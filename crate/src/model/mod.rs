@@ -10,4 +10,4 @@ pub mod vae;
 pub mod weights;
 
 pub use vae::{Decoded, MeshVae, Posterior, Trace, VaeConfig, spacetime_distances};
-pub use weights::{TensorMap, WeightsError, load_module, module_tensors};
+pub use weights::{TensorMap, WeightsError, load_module, module_tensors, seeded_init};

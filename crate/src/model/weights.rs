@@ -187,7 +187,16 @@ impl ModuleMapper for Loader<'_> {
         let device = param.lazy_device();
         let tensor = self.map.tensor::<D>(&name, &device).expect("rank checked");
         let id = param.id;
-        param.transform_for_load(tensor, id)
+        // The load mapper may leave a strided view (the Linear transpose); a copy in standard
+        // layout makes later matmuls round exactly as they do on freshly computed weights, so a
+        // resumed run matches an uninterrupted one bit for bit.
+        param.transform_for_load(tensor, id).map(|t| {
+            let require_grad = t.is_require_grad();
+            t.detach()
+                .mul_scalar(1.0)
+                .detach()
+                .set_require_grad(require_grad)
+        })
     }
 }
 
@@ -261,4 +270,65 @@ pub fn module_tensors<M: Module>(module: &M) -> TensorMap {
     };
     module.visit(&mut collector);
     collector.map
+}
+
+struct SeededInit {
+    path: Vec<String>,
+    rng: crate::rng::Rng,
+    fan_in: usize,
+}
+
+impl ModuleMapper for SeededInit {
+    fn enter_module(&mut self, name: &str, _container: &str) {
+        self.path.push(name.to_string());
+    }
+
+    fn exit_module(&mut self, _name: &str, _container: &str) {
+        self.path.pop();
+    }
+
+    fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+        let value = param.val();
+        let dims = value.dims();
+        let device = value.device();
+        let n = dims.iter().product::<usize>();
+        let last = self.path.last().map(String::as_str).unwrap_or("");
+        let values: Vec<f32> = match (last, D) {
+            ("gamma", _) => vec![1.0; n],
+            ("beta", _) => vec![0.0; n],
+            ("skip_gate", _) => vec![0.5; n],
+            (_, 2) => {
+                // Linear weights are stored [in, out]: PyTorch's default bound 1/sqrt(fan_in).
+                self.fan_in = dims[0];
+                let bound = 1.0 / (self.fan_in as f64).sqrt();
+                (0..n)
+                    .map(|_| ((2.0 * self.rng.next_f64() - 1.0) * bound) as f32)
+                    .collect()
+            }
+            _ => {
+                // A bias: the bound of the weight before it in the same Linear.
+                let bound = 1.0 / (self.fan_in.max(1) as f64).sqrt();
+                (0..n)
+                    .map(|_| ((2.0 * self.rng.next_f64() - 1.0) * bound) as f32)
+                    .collect()
+            }
+        };
+        param.map(|old| {
+            let require_grad = old.is_require_grad();
+            Tensor::<D>::from_data(TensorData::new(values, dims), &device)
+                .set_require_grad(require_grad)
+        })
+    }
+}
+
+/// Re-initialises every parameter from a seeded generator, PyTorch-style (Linear weights and
+/// biases uniform in +-1/sqrt(fan_in), norm scales 1 and shifts 0, skip gates 0.5), so a
+/// training run starts from the same weights on every backend and in every process.
+pub fn seeded_init<M: Module>(module: M, seed: u64) -> M {
+    let mut init = SeededInit {
+        path: Vec::new(),
+        rng: crate::rng::Rng::new(seed),
+        fan_in: 1,
+    };
+    module.map(&mut init)
 }

@@ -11,7 +11,7 @@
 
 use std::fs;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::time::Instant;
 
 use burn::module::Module;
@@ -21,10 +21,15 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
+use super::{
+    CheckpointPaths, TrainError, TrainObserver, ema_update, normal_noise, scalar, warmup_cosine,
+    write_atomic,
+};
 use crate::Mesh;
+use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
 use crate::model::weights::{TensorMap, WeightsError, load_module};
-use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, spacetime_distances};
+use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, seeded_init, spacetime_distances};
 use crate::rng::Rng;
 use crate::tokens::{VertexTokens, build_tokens};
 
@@ -82,14 +87,13 @@ impl VaeTrainConfig {
 
     /// Learning rate at `step` (0-based): linear warm-up, then cosine decay.
     pub fn lr_at(&self, step: usize) -> f64 {
-        let lr = self.learning_rate;
-        if step < self.warmup_steps {
-            return lr * (step + 1) as f64 / self.warmup_steps as f64;
-        }
-        let span = self.steps.saturating_sub(self.warmup_steps).max(1) as f64;
-        let t = ((step - self.warmup_steps) as f64 / span).min(1.0);
-        let min = lr * self.final_lr_ratio;
-        min + 0.5 * (lr - min) * (1.0 + (std::f64::consts::PI * t).cos())
+        warmup_cosine(
+            step,
+            self.learning_rate,
+            self.warmup_steps,
+            self.steps,
+            self.final_lr_ratio,
+        )
     }
 }
 
@@ -211,47 +215,6 @@ pub fn vae_losses(
     }
 }
 
-fn scalar(t: Tensor<1>) -> f64 {
-    t.try_into_data()
-        .ok()
-        .and_then(|d| d.convert::<f64>().try_into_vec::<f64>().ok())
-        .and_then(|v| v.first().copied())
-        .unwrap_or(f64::NAN)
-}
-
-/// Standard-normal noise from the run's RNG (so a resumed run draws the same numbers).
-fn normal_noise(rng: &mut Rng, shape: [usize; 3], device: &Device) -> Tensor<3> {
-    let values: Vec<f32> = (0..shape.iter().product::<usize>())
-        .map(|_| rng.normal() as f32)
-        .collect();
-    Tensor::from_data(TensorData::new(values, shape), device)
-}
-
-/// Random rotation about Y and per-axis scale jitter, refitted into the model frame. Face
-/// winding is kept (a proper rotation; positive scales).
-pub fn augment_mesh(mesh: &Mesh, rng: &mut Rng, jitter: f32) -> Mesh {
-    use crate::normalize::Normalization;
-    let angle = rng.next_f32() * std::f32::consts::TAU;
-    let scale = glam::Vec3::new(
-        1.0 + jitter * (2.0 * rng.next_f32() - 1.0),
-        1.0 + jitter * (2.0 * rng.next_f32() - 1.0),
-        1.0 + jitter * (2.0 * rng.next_f32() - 1.0),
-    );
-    let rot = glam::Quat::from_rotation_y(angle);
-    let mut out = mesh.clone();
-    for p in &mut out.positions {
-        *p = rot * (*p * scale);
-    }
-    // Normals transform by the inverse transpose: divide by the scale, then rotate.
-    for nrm in &mut out.normals {
-        *nrm = (rot * (*nrm / scale)).normalize_or_zero();
-    }
-    match out.aabb() {
-        Some(aabb) => Normalization::to_model_frame(aabb).apply_mesh(&out),
-        None => out,
-    }
-}
-
 /// Progress of one step, for a progress bar and the metrics log.
 #[derive(Clone, Debug, Serialize)]
 pub struct StepLog {
@@ -282,25 +245,6 @@ pub struct ValLog {
     pub mask_accuracy: f64,
 }
 
-/// The checkpoint folder's files.
-struct CheckpointPaths {
-    model: PathBuf,
-    optim: PathBuf,
-    ema: PathBuf,
-    state: PathBuf,
-}
-
-impl CheckpointPaths {
-    fn new(dir: &Path) -> Self {
-        Self {
-            model: dir.join("model.safetensors"),
-            optim: dir.join("optimizer.safetensors"),
-            ema: dir.join("ema.safetensors"),
-            state: dir.join("state.json"),
-        }
-    }
-}
-
 #[derive(Serialize, Deserialize)]
 struct TrainState {
     config: VaeTrainConfig,
@@ -320,45 +264,9 @@ pub struct TrainedVae {
     pub last_val: Option<ValLog>,
 }
 
-/// Why training stopped early.
-#[derive(Debug, thiserror::Error)]
-pub enum TrainError {
-    #[error("no training mesh fits N = {0} vertices")]
-    NoData(usize),
-    #[error("checkpoint in {dir}: {reason}")]
-    Checkpoint { dir: String, reason: String },
-    #[error("the checkpoint was made with a different configuration; use a new output folder")]
-    ConfigChanged,
-    #[error(transparent)]
-    Weights(#[from] WeightsError),
-    #[error("{0}")]
-    Io(#[from] std::io::Error),
-    #[error("loss became {0} at step {1}")]
-    Diverged(f64, usize),
-}
-
-/// Callbacks for the caller's progress display; `stop` is polled between steps.
-pub trait TrainObserver {
-    fn step(&mut self, log: &StepLog);
-    fn validated(&mut self, log: &ValLog);
-    fn checkpointed(&mut self, step: usize);
-    fn stop(&self) -> bool {
-        false
-    }
-}
-
 /// Tokens of `mesh` for the model (None when it has too many vertices or is invalid).
 fn tokens_of(mesh: &Mesh, cfg: &VaeConfig, seed: u64) -> Option<VertexTokens> {
     build_tokens(mesh, &cfg.tokens(), seed).ok()
-}
-
-fn ema_update(ema: &mut TensorMap, current: &TensorMap, decay: f32) {
-    for (name, (_, values)) in ema.tensors.iter_mut() {
-        let (_, cur) = &current.tensors[name];
-        for (e, c) in values.iter_mut().zip(cur) {
-            *e = decay * *e + (1.0 - decay) * c;
-        }
-    }
 }
 
 /// Validation on up to `limit` meshes, batch by batch, with the posterior mean.
@@ -443,12 +351,6 @@ pub fn validate(
     })
 }
 
-fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = path.with_extension("tmp");
-    fs::write(&tmp, bytes)?;
-    fs::rename(tmp, path)
-}
-
 /// Trains a VAE on `train` (model-frame meshes), validating on `val`, writing checkpoints and
 /// `metrics.jsonl` under `out_dir`. A checkpoint already in `out_dir/checkpoint` with the same
 /// configuration is resumed: the run continues exactly as if it had not stopped.
@@ -479,7 +381,7 @@ pub fn train_vae(
         reason,
     };
 
-    let mut vae = MeshVae::new(&cfg.model, &ad_device);
+    let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
     let optim = AdamW {
         beta1: 0.9,
         beta2: 0.999,
@@ -542,7 +444,12 @@ pub fn train_vae(
             let mesh = train[order[state.cursor]];
             state.cursor += 1;
             let mesh = if cfg.augment {
-                augment_mesh(mesh, &mut rng, cfg.scale_jitter)
+                let opts = AugmentOptions {
+                    rotate: true,
+                    scale_jitter: cfg.scale_jitter,
+                    points: 0,
+                };
+                augment_mesh(mesh, &opts, &mut rng).0
             } else {
                 mesh.clone()
             };
@@ -591,13 +498,22 @@ pub fn train_vae(
             "{}",
             serde_json::to_string(&step_log).expect("serialisable")
         )?;
-        observer.step(&step_log);
+        observer.step(
+            state.step,
+            &format!(
+                "loss {:.4} (adj {:.4}, pos {:.2e}) {:.1} meshes/s",
+                step_log.loss, step_log.adjacency, step_log.position, step_log.meshes_per_s
+            ),
+        );
         let last = state.step == cfg.steps;
         if state.step % cfg.eval_every.max(1) == 0 || last {
             let model = vae.valid();
             if let Some(v) = validate(&model, val, cfg, device, state.step) {
                 writeln!(log, "{}", serde_json::to_string(&v).expect("serialisable"))?;
-                observer.validated(&v);
+                observer.note(&format!(
+                    "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
+                    v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
+                ));
                 last_val = Some(v);
             }
         }
@@ -613,7 +529,6 @@ pub fn train_vae(
                 &paths.state,
                 &serde_json::to_vec_pretty(&state).expect("serialisable"),
             )?;
-            observer.checkpointed(state.step);
         }
     }
     let weights = ema.unwrap_or_else(|| module_tensors(&vae));
