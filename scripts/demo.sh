@@ -9,6 +9,8 @@
 #               faces, reporting what was lost, added or flipped
 #   convert  -> binary glTF (.glb)
 #   compare  -> the .glb against the original mesh
+#   reconstruct -> the shipped MeshVAE (weights/): encode, decode, extract,
+#               with its reconstruction figures
 # Output files go to $MESHFLOW_DEMO_OUT if set, else a fresh temporary
 # directory; either way they are kept, and the path is printed at the end.
 
@@ -49,9 +51,11 @@ run sample "$MESH" -n 8192 -o "$OUT/points.ply"
 run extract "$MESH"
 run convert "$MESH" "$OUT/out.glb"
 run compare "$OUT/out.glb" "$MESH"
+run reconstruct "$MESH" -o "$OUT/reconstructed.glb" --weights weights
 
 log "done. Input: $MESH"
 echo "[demo.sh] outputs in $OUT:"
 echo "[demo.sh]   $OUT/points.ply  (8,192 sampled points, binary PLY)"
 echo "[demo.sh]   $OUT/out.glb     (binary glTF of the mesh)"
+echo "[demo.sh]   $OUT/reconstructed.glb (the shipped MeshVAE's reconstruction)"
 echo "[demo.sh] the CLI binary is $MESHFLOW"

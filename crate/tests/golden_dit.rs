@@ -176,7 +176,7 @@ fn sampling_can_be_cancelled_between_steps() {
     use meshflow::model::schedule::ScheduleMode;
     let device = Device::flex();
     let (_, dit) = load(&device);
-    let rope = Rope::new(&vec![[0.0; 3]; 16], 1, 24, &device);
+    let rope = Rope::new(&[[0.0; 3]; 16], 1, 24, &device);
     let noise = Tensor::<3>::zeros([1, 16, 8], &device);
     let cond = Tensor::<2>::ones([1, 1], &device);
     let mut seen = 0;

@@ -223,8 +223,11 @@ fn parse_split(name: &str) -> Result<Split> {
         .ok_or_else(|| BadInput(format!("--split {name}: expected train, val or test")).into())
 }
 
+/// Named meshes to evaluate.
+type NamedMeshes = Vec<(String, Mesh)>;
+
 /// Meshes of a folder, prepared like the data build; files that fail are listed as skipped.
-fn folder_meshes(dir: &Path, max_vertices: usize) -> Result<(Vec<(String, Mesh)>, Vec<String>)> {
+fn folder_meshes(dir: &Path, max_vertices: usize) -> Result<(NamedMeshes, Vec<String>)> {
     let mut files: Vec<PathBuf> = fs::read_dir(dir)
         .with_context(|| format!("cannot list {}", dir.display()))?
         .filter_map(|e| e.ok().map(|e| e.path()))

@@ -60,14 +60,14 @@ impl DitConfig {
         if self.width == 0 || self.num_heads == 0 || self.latent_dim == 0 || self.depth == 0 {
             return Err("width, num_heads, latent_dim and depth must be positive".into());
         }
-        if self.width % self.num_heads != 0 {
+        if !self.width.is_multiple_of(self.num_heads) {
             return Err("width must be a multiple of num_heads".into());
         }
         let head_dim = self.width / self.num_heads;
-        if head_dim % 6 != 0 {
+        if !head_dim.is_multiple_of(6) {
             return Err("head_dim must be a multiple of 6 (three axes of RoPE pairs)".into());
         }
-        if self.width % 2 != 0 {
+        if !self.width.is_multiple_of(2) {
             return Err("width must be even (sin | cos time features)".into());
         }
         Ok(())

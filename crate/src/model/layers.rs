@@ -51,7 +51,7 @@ impl Attention {
     /// `width` channels in `heads` heads; `qk_eps` is the q/k RMSNorm epsilon.
     pub fn new(width: usize, heads: usize, qk_eps: f64, device: &Device) -> Self {
         assert!(
-            heads > 0 && width % heads == 0,
+            heads > 0 && width.is_multiple_of(heads),
             "width must divide into heads"
         );
         let head_dim = width / heads;

@@ -98,7 +98,7 @@ impl VaeConfig {
         if let Some((name, _)) = positive.iter().find(|(_, v)| *v == 0) {
             return Err(format!("{name} must be positive"));
         }
-        if self.num_vertices % self.num_latents != 0 {
+        if !self.num_vertices.is_multiple_of(self.num_latents) {
             return Err("num_vertices must be a multiple of num_latents".into());
         }
         let r = self.merge_ratio();
@@ -106,14 +106,14 @@ impl VaeConfig {
             ("width_encoder", self.width_encoder),
             ("width_decoder", self.width_decoder),
         ] {
-            if w % self.num_heads != 0 {
+            if !w.is_multiple_of(self.num_heads) {
                 return Err(format!("{name} must be a multiple of num_heads"));
             }
         }
-        if self.width_decoder % r != 0 {
+        if !self.width_decoder.is_multiple_of(r) {
             return Err("width_decoder must be a multiple of the merge ratio".into());
         }
-        if self.edge_dim % 2 != 0 {
+        if !self.edge_dim.is_multiple_of(2) {
             return Err("edge_dim must be even (space | time halves)".into());
         }
         if !(self.tau.is_finite()) {

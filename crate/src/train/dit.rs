@@ -321,7 +321,7 @@ pub fn train_dit(
             &format!("loss {loss:.4}, grad norm {grad_norm:.2}"),
         );
         let last = state.step == cfg.steps;
-        if (state.step % cfg.eval_every.max(1) == 0 || last) && !val.is_empty() {
+        if (state.step.is_multiple_of(cfg.eval_every.max(1)) || last) && !val.is_empty() {
             let v = validate_dit(&dit.valid(), cfg, val, device);
             writeln!(
                 log,
@@ -331,7 +331,7 @@ pub fn train_dit(
             observer.note(&format!("step {}: validation flow loss {v:.4}", state.step));
             last_val = Some(v);
         }
-        if state.step % cfg.checkpoint_every.max(1) == 0 || last || observer.stop() {
+        if state.step.is_multiple_of(cfg.checkpoint_every.max(1)) || last || observer.stop() {
             state.rng = rng.next_u64();
             rng = Rng::new(state.rng);
             write_atomic(&paths.model, &module_tensors(&dit).to_safetensors(None))?;

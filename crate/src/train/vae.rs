@@ -490,7 +490,7 @@ pub fn train_vae(
             meshes_per_s: since_log.1 as f64 / since_log.0.elapsed().as_secs_f64().max(1e-9),
             elapsed_s: started.elapsed().as_secs_f64(),
         };
-        if state.step % 10 == 0 {
+        if state.step.is_multiple_of(10) {
             since_log = (Instant::now(), 0);
         }
         writeln!(
@@ -506,7 +506,7 @@ pub fn train_vae(
             ),
         );
         let last = state.step == cfg.steps;
-        if state.step % cfg.eval_every.max(1) == 0 || last {
+        if state.step.is_multiple_of(cfg.eval_every.max(1)) || last {
             let model = vae.valid();
             if let Some(v) = validate(&model, val, cfg, device, state.step) {
                 writeln!(log, "{}", serde_json::to_string(&v).expect("serialisable"))?;
@@ -517,7 +517,7 @@ pub fn train_vae(
                 last_val = Some(v);
             }
         }
-        if state.step % cfg.checkpoint_every.max(1) == 0 || last || observer.stop() {
+        if state.step.is_multiple_of(cfg.checkpoint_every.max(1)) || last || observer.stop() {
             state.rng = rng.next_u64();
             rng = Rng::new(state.rng);
             write_atomic(&paths.model, &module_tensors(&vae).to_safetensors(None))?;
