@@ -388,8 +388,18 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     assert_eq!(report["vertices"], 356);
     // Figures are whatever the shipped weights reach (BENCHMARKS.md); here: they load, pass
     // their sha256 check, run, and give a mesh with faces and finite distances.
-    assert!(report["comparison"]["chamfer_x100"].as_f64().unwrap().is_finite());
-    assert!(report["comparison"]["pred_topology"]["faces"].as_u64().unwrap() > 0);
+    assert!(
+        report["comparison"]["chamfer_x100"]
+            .as_f64()
+            .unwrap()
+            .is_finite()
+    );
+    assert!(
+        report["comparison"]["pred_topology"]["faces"]
+            .as_u64()
+            .unwrap()
+            > 0
+    );
     let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
     assert!(back["faces"].as_u64().unwrap() > 0);
     let _ = std::fs::remove_dir_all(&dir);
