@@ -73,6 +73,79 @@ impl CheckpointPaths {
     }
 }
 
+/// What a checkpoint folder restores: the run's state, weights, optimiser moments and EMA.
+pub(crate) struct Restored<S> {
+    pub state: S,
+    pub model: TensorMap,
+    pub optim: adamw::AdamWState,
+    pub ema: Option<TensorMap>,
+}
+
+impl CheckpointPaths {
+    /// Reads the checkpoint when there is one. `same_config` must accept the saved state (else
+    /// [`TrainError::ConfigChanged`]); `steps` gives the optimiser steps it had taken; moments
+    /// are placed on `device` (the model's inner device).
+    pub fn restore<S: serde::de::DeserializeOwned>(
+        &self,
+        same_config: impl Fn(&S) -> bool,
+        steps: impl Fn(&S) -> usize,
+        with_ema: bool,
+        device: &Device,
+    ) -> Result<Option<Restored<S>>, TrainError> {
+        if !self.state.is_file() {
+            return Ok(None);
+        }
+        let bad = |reason: String| TrainError::Checkpoint {
+            dir: self
+                .state
+                .parent()
+                .unwrap_or(&self.state)
+                .display()
+                .to_string(),
+            reason,
+        };
+        let state: S =
+            serde_json::from_slice(&fs::read(&self.state)?).map_err(|e| bad(e.to_string()))?;
+        if !same_config(&state) {
+            return Err(TrainError::ConfigChanged);
+        }
+        let model = TensorMap::from_safetensors(&fs::read(&self.model)?, "")?;
+        let moments = TensorMap::from_safetensors(&fs::read(&self.optim)?, "")?;
+        let optim =
+            adamw::AdamWState::from_tensors(&moments, steps(&state) as u64, device).map_err(bad)?;
+        let ema = if with_ema {
+            Some(TensorMap::from_safetensors(&fs::read(&self.ema)?, "")?)
+        } else {
+            None
+        };
+        Ok(Some(Restored {
+            state,
+            model,
+            optim,
+            ema,
+        }))
+    }
+
+    /// Writes a checkpoint, each file atomically, the state last (so a state file always
+    /// describes complete weights).
+    pub fn save<S: serde::Serialize>(
+        &self,
+        model: &TensorMap,
+        optim: &adamw::AdamWState,
+        ema: Option<&TensorMap>,
+        state: &S,
+    ) -> Result<(), TrainError> {
+        write_atomic(&self.model, &model.to_safetensors(None))?;
+        write_atomic(&self.optim, &optim.to_tensors().to_safetensors(None))?;
+        if let Some(ema) = ema {
+            write_atomic(&self.ema, &ema.to_safetensors(None))?;
+        }
+        let json = serde_json::to_vec_pretty(state).expect("a training state serialises");
+        write_atomic(&self.state, &json)?;
+        Ok(())
+    }
+}
+
 /// A `[1]` tensor's value (NaN when it cannot be read back).
 pub(crate) fn scalar(t: Tensor<1>) -> f64 {
     t.try_into_data()

@@ -23,7 +23,6 @@ use serde::{Deserialize, Serialize};
 use super::adamw::{AdamW, AdamWState};
 use super::{
     CheckpointPaths, TrainError, TrainObserver, ema_update, normal_noise, scalar, warmup_cosine,
-    write_atomic,
 };
 use crate::Mesh;
 use crate::augment::{AugmentOptions, augment_mesh};
@@ -376,10 +375,6 @@ pub fn train_vae(
     fs::create_dir_all(&ckpt_dir)?;
     let paths = CheckpointPaths::new(&ckpt_dir);
     let ad_device = device.clone().autodiff();
-    let ckpt_err = |reason: String| TrainError::Checkpoint {
-        dir: ckpt_dir.display().to_string(),
-        reason,
-    };
 
     let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
     let optim = AdamW {
@@ -398,21 +393,16 @@ pub fn train_vae(
         epoch: 0,
     };
     let mut ema: Option<TensorMap> = None;
-    if paths.state.is_file() {
-        let saved: TrainState = serde_json::from_slice(&fs::read(&paths.state)?)
-            .map_err(|e| ckpt_err(e.to_string()))?;
-        if saved.config != *cfg {
-            return Err(TrainError::ConfigChanged);
-        }
-        let weights = TensorMap::from_safetensors(&fs::read(&paths.model)?, "")?;
-        vae = load_module(vae, &weights, &|_| false)?;
-        let moments = TensorMap::from_safetensors(&fs::read(&paths.optim)?, "")?;
-        optim_state =
-            AdamWState::from_tensors(&moments, saved.step as u64, device).map_err(ckpt_err)?;
-        if cfg.ema_decay.is_some() {
-            ema = Some(TensorMap::from_safetensors(&fs::read(&paths.ema)?, "")?);
-        }
-        state = saved;
+    if let Some(r) = paths.restore(
+        |saved: &TrainState| saved.config == *cfg,
+        |saved| saved.step,
+        cfg.ema_decay.is_some(),
+        device,
+    )? {
+        vae = load_module(vae, &r.model, &|_| false)?;
+        optim_state = r.optim;
+        ema = r.ema;
+        state = r.state;
     }
     if cfg.ema_decay.is_some() && ema.is_none() {
         ema = Some(module_tensors(&vae));
@@ -520,15 +510,7 @@ pub fn train_vae(
         if state.step.is_multiple_of(cfg.checkpoint_every.max(1)) || last || observer.stop() {
             state.rng = rng.next_u64();
             rng = Rng::new(state.rng);
-            write_atomic(&paths.model, &module_tensors(&vae).to_safetensors(None))?;
-            write_atomic(&paths.optim, &optim_state.to_tensors().to_safetensors(None))?;
-            if let Some(ema) = &ema {
-                write_atomic(&paths.ema, &ema.to_safetensors(None))?;
-            }
-            write_atomic(
-                &paths.state,
-                &serde_json::to_vec_pretty(&state).expect("serialisable"),
-            )?;
+            paths.save(&module_tensors(&vae), &optim_state, ema.as_ref(), &state)?;
         }
     }
     let weights = ema.unwrap_or_else(|| module_tensors(&vae));
