@@ -95,6 +95,17 @@ impl ModuleMapper for StepMapper<'_> {
 }
 
 impl AdamW {
+    /// PyTorch's betas (0.9, 0.999) and eps (1e-8) with the given decay and clip.
+    pub fn new(weight_decay: f64, max_grad_norm: f64) -> Self {
+        Self {
+            beta1: 0.9,
+            beta2: 0.999,
+            eps: 1e-8,
+            weight_decay,
+            max_grad_norm,
+        }
+    }
+
     /// One update of `module` from `grads` at learning rate `lr`. Returns the module and the
     /// global gradient norm before clipping.
     pub fn step<M: Module>(

@@ -6,7 +6,6 @@
 //! logit-normal (`sigmoid(N(0, 1))`), forms `x_t = (1 - t) x_0 + t eps` and regresses the
 //! velocity `eps - x_0` with mean squared error (DESIGN.md section 2).
 
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -17,9 +16,7 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{
-    CheckpointPaths, TrainError, TrainObserver, ema_update, normal_noise, scalar, warmup_cosine,
-};
+use super::{TrainError, TrainObserver, ema_update, normal_noise, open_run, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::condition::{latent_positions, vertex_condition};
 use crate::model::dit::{Dit, DitConfig, Rope};
@@ -228,18 +225,10 @@ pub fn train_dit(
     if train.is_empty() {
         return Err(TrainError::NoData(cfg.model.num_latents));
     }
-    let ckpt_dir = out_dir.join("checkpoint");
-    fs::create_dir_all(&ckpt_dir)?;
-    let paths = CheckpointPaths::new(&ckpt_dir);
+    let (paths, mut log) = open_run(out_dir)?;
     let ad_device = device.clone().autodiff();
     let mut dit = seeded_init(Dit::new(&cfg.model, &ad_device), cfg.seed);
-    let optim = AdamW {
-        beta1: 0.9,
-        beta2: 0.999,
-        eps: 1e-8,
-        weight_decay: cfg.weight_decay,
-        max_grad_norm: cfg.grad_clip,
-    };
+    let optim = AdamW::new(cfg.weight_decay, cfg.grad_clip);
     let mut optim_state = AdamWState::default();
     let mut state = DitState {
         config: cfg.clone(),
@@ -261,10 +250,6 @@ pub fn train_dit(
     if cfg.ema_decay.is_some() && ema.is_none() {
         ema = Some(module_tensors(&dit));
     }
-    let mut log = fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(out_dir.join("metrics.jsonl"))?;
     let mut rng = Rng::new(state.rng);
     let started = Instant::now();
     let mut last_val = None;

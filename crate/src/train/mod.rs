@@ -146,6 +146,18 @@ impl CheckpointPaths {
     }
 }
 
+/// Creates `out_dir/checkpoint` and opens `out_dir/metrics.jsonl` for appending (a resumed run
+/// continues the same log).
+pub(crate) fn open_run(out_dir: &Path) -> Result<(CheckpointPaths, fs::File), TrainError> {
+    let ckpt_dir = out_dir.join("checkpoint");
+    fs::create_dir_all(&ckpt_dir)?;
+    let log = fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(out_dir.join("metrics.jsonl"))?;
+    Ok((CheckpointPaths::new(&ckpt_dir), log))
+}
+
 /// A `[1]` tensor's value (NaN when it cannot be read back).
 pub(crate) fn scalar(t: Tensor<1>) -> f64 {
     t.try_into_data()

@@ -9,7 +9,6 @@
 //!   real i < j;
 //! - KL: `0.5 mean(mu^2 + exp(logvar) - 1 - logvar)` over latent channels, weight 1e-3.
 
-use std::fs;
 use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
@@ -21,9 +20,7 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{
-    CheckpointPaths, TrainError, TrainObserver, ema_update, normal_noise, scalar, warmup_cosine,
-};
+use super::{TrainError, TrainObserver, ema_update, normal_noise, open_run, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
@@ -371,19 +368,11 @@ pub fn train_vae(
     if train.is_empty() {
         return Err(TrainError::NoData(cfg.model.num_vertices));
     }
-    let ckpt_dir = out_dir.join("checkpoint");
-    fs::create_dir_all(&ckpt_dir)?;
-    let paths = CheckpointPaths::new(&ckpt_dir);
+    let (paths, mut log) = open_run(out_dir)?;
     let ad_device = device.clone().autodiff();
 
     let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
-    let optim = AdamW {
-        beta1: 0.9,
-        beta2: 0.999,
-        eps: 1e-8,
-        weight_decay: cfg.weight_decay,
-        max_grad_norm: cfg.grad_clip,
-    };
+    let optim = AdamW::new(cfg.weight_decay, cfg.grad_clip);
     let mut optim_state = AdamWState::default();
     let mut state = TrainState {
         config: cfg.clone(),
@@ -408,10 +397,6 @@ pub fn train_vae(
         ema = Some(module_tensors(&vae));
     }
 
-    let mut log = fs::OpenOptions::new()
-        .create(true)
-        .append(true)
-        .open(out_dir.join("metrics.jsonl"))?;
     let mut rng = Rng::new(state.rng);
     // The epoch order is a function of (seed, epoch), so resuming needs only the cursor.
     let order_for = |epoch: usize| {
