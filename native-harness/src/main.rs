@@ -9,6 +9,7 @@ mod data;
 mod plot;
 mod progress;
 mod train;
+mod train_dit;
 mod vae_eval;
 mod verify;
 

@@ -26,6 +26,8 @@ use crate::data::read_manifest;
 pub enum TrainCommand {
     /// Trains the MeshVAE on the train split of a shard build; resumes from OUT/checkpoint.
     Vae(TrainVaeArgs),
+    /// Trains the DiT on latents of a trained VAE; resumes from OUT/checkpoint.
+    Dit(crate::train_dit::TrainDitArgs),
 }
 
 #[derive(Args)]
@@ -172,8 +174,9 @@ pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
     Ok(meshes)
 }
 
-struct BarObserver {
-    bar: ProgressBar,
+/// A progress bar for a training run.
+pub struct BarObserver {
+    pub bar: ProgressBar,
 }
 
 impl TrainObserver for BarObserver {
@@ -270,6 +273,7 @@ pub fn sha256_hex(bytes: &[u8]) -> String {
 pub fn run(which: TrainCommand) -> Result<()> {
     match which {
         TrainCommand::Vae(args) => train_vae_command(args),
+        TrainCommand::Dit(args) => crate::train_dit::run(args),
     }
 }
 

@@ -404,3 +404,58 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     assert!(back["faces"].as_u64().unwrap() > 0);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn train_dit_on_latents_of_the_shipped_vae() {
+    let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights");
+    let dir = temp_dir("dit");
+    let run = dir.join("run");
+    let _ = std::fs::remove_dir_all(&run);
+    let config = dir.join("dit.json");
+    let tiny = |latents: usize| {
+        format!(
+            r#"{{"model": {{"num_latents": {latents}, "latent_dim": 8, "width": 48, "depth": 2,
+                "num_heads": 2}}, "batch_size": 4, "steps": 4, "learning_rate": 0.001,
+                "warmup_steps": 1, "final_lr_ratio": 0.1, "weight_decay": 0.0, "grad_clip": 1.0,
+                "ema_decay": 0.9, "seed": 1, "checkpoint_every": 2, "eval_every": 2}}"#
+        )
+    };
+    std::fs::write(&config, tiny(128)).unwrap();
+    let args = |config: &Path| {
+        vec![
+            "train".to_string(),
+            "dit".into(),
+            "--data".into(),
+            fixture("dataset").to_str().unwrap().into(),
+            "--vae".into(),
+            weights.to_str().unwrap().into(),
+            "--out".into(),
+            run.to_str().unwrap().into(),
+            "--config".into(),
+            config.to_str().unwrap().into(),
+        ]
+    };
+    let a = args(&config);
+    let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(run.join("dit.manifest.json")).unwrap()).unwrap();
+    assert_eq!(manifest["train_examples"], 32);
+    assert!(
+        manifest["final_validation_loss"]
+            .as_f64()
+            .unwrap()
+            .is_finite()
+    );
+    // A DiT sized for other latents than the VAE makes is refused.
+    std::fs::write(&config, tiny(64)).unwrap();
+    let a = args(&config);
+    let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert_eq!(out.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("latents"));
+    let _ = std::fs::remove_dir_all(&dir);
+}

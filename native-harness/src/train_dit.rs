@@ -1,0 +1,151 @@
+//! `meshflow train dit`: encodes the train and validation splits once with a trained VAE
+//! (latents normalised by the VAE manifest's mean/std), then trains the DiT by flow matching
+//! and writes `dit.safetensors`, `dit.json` and `dit.manifest.json`.
+
+use std::fs;
+use std::path::PathBuf;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use meshflow::device::{BackendKind, device};
+use meshflow::model::dit::DitConfig;
+use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
+use serde::Serialize;
+
+use crate::BadInput;
+use crate::train::{Backend, BarObserver, load_split, load_weights, sha256_hex};
+use meshflow::dataset::Split;
+
+#[derive(Args)]
+pub struct TrainDitArgs {
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    data: Option<PathBuf>,
+    /// The trained VAE (vae.safetensors, vae.manifest.json).
+    #[arg(long, default_value = "weights")]
+    vae: PathBuf,
+    /// Run folder: checkpoint/, metrics.jsonl and the final weights.
+    #[arg(short, long)]
+    out: PathBuf,
+    /// A JSON file with a full DiT training configuration; without it, a small DiT sized to
+    /// the VAE's latents.
+    #[arg(long)]
+    config: Option<PathBuf>,
+    #[arg(long)]
+    steps: Option<usize>,
+    #[arg(long, value_enum, default_value = "cpu")]
+    backend: Backend,
+}
+
+#[derive(Serialize)]
+struct DitManifest {
+    model: DitConfig,
+    sha256: String,
+    parameters: usize,
+    command: String,
+    training: DitTrainConfig,
+    vae_sha256: String,
+    train_examples: usize,
+    final_validation_loss: Option<f64>,
+    wall_time_s: f64,
+    backend: String,
+}
+
+pub fn run(args: TrainDitArgs) -> Result<()> {
+    let device = device(args.backend.into()).map_err(|e| anyhow::anyhow!(e))?;
+    let (vae, vae_manifest) = load_weights(&args.vae, &device)?;
+    let vcfg = &vae_manifest.model;
+    let mut cfg = match &args.config {
+        Some(path) => {
+            let text = fs::read_to_string(path)
+                .map_err(|e| BadInput(format!("--config {}: {e}", path.display())))?;
+            serde_json::from_str::<DitTrainConfig>(&text)
+                .map_err(|e| BadInput(format!("--config {}: {e}", path.display())))?
+        }
+        None => DitTrainConfig::new(DitConfig {
+            num_latents: vcfg.num_latents,
+            latent_dim: vcfg.latent_dim,
+            width: 192,
+            depth: 6,
+            num_heads: 4,
+        }),
+    };
+    if let Some(s) = args.steps {
+        cfg.steps = s;
+    }
+    if (cfg.model.num_latents, cfg.model.latent_dim) != (vcfg.num_latents, vcfg.latent_dim) {
+        bail!(BadInput(format!(
+            "the DiT takes {} x {} latents but the VAE makes {} x {}",
+            cfg.model.num_latents, cfg.model.latent_dim, vcfg.num_latents, vcfg.latent_dim
+        )));
+    }
+    cfg.model
+        .validate()
+        .map_err(|e| BadInput(format!("configuration: {e}")))?;
+    let data = args
+        .data
+        .unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let encode = |split| -> Result<_> {
+        let meshes: Vec<_> = load_split(&data, split)?
+            .into_iter()
+            .filter(|m| m.positions.len() <= vcfg.num_vertices)
+            .collect();
+        let (mean, std) = (&vae_manifest.latent_mean, &vae_manifest.latent_std);
+        Ok(encode_latents(&vae, vcfg, &meshes, mean, std, &device))
+    };
+    let started = Instant::now();
+    let train = encode(Split::Train)?;
+    let val = encode(Split::Val)?;
+    if train.is_empty() {
+        bail!(BadInput(format!(
+            "no training mesh in {} fits the VAE",
+            data.display()
+        )));
+    }
+    eprintln!(
+        "encoded {} train and {} validation meshes in {:.1} s; training the DiT for {} steps",
+        train.len(),
+        val.len(),
+        started.elapsed().as_secs_f64(),
+        cfg.steps
+    );
+    fs::create_dir_all(&args.out)?;
+    let bar = ProgressBar::new(cfg.steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}")
+            .expect("template"),
+    );
+    let mut observer = BarObserver { bar };
+    let (weights, steps, last_val) =
+        train_dit(&cfg, &train, &val, &args.out, &device, &mut observer)?;
+    observer.bar.finish();
+    let bytes = weights.to_safetensors(None);
+    let manifest = DitManifest {
+        model: cfg.model.clone(),
+        sha256: sha256_hex(&bytes),
+        parameters: weights.tensors.values().map(|(_, v)| v.len()).sum(),
+        command: std::env::args().collect::<Vec<_>>().join(" "),
+        training: cfg.clone(),
+        vae_sha256: vae_manifest.sha256.clone(),
+        train_examples: train.len(),
+        final_validation_loss: last_val,
+        wall_time_s: started.elapsed().as_secs_f64(),
+        backend: BackendKind::from(args.backend).name().into(),
+    };
+    fs::write(args.out.join("dit.safetensors"), &bytes)?;
+    fs::write(
+        args.out.join("dit.json"),
+        serde_json::to_string_pretty(&cfg.model)?,
+    )?;
+    fs::write(
+        args.out.join("dit.manifest.json"),
+        serde_json::to_string_pretty(&manifest)?,
+    )?;
+    println!(
+        "{steps} steps -> {}",
+        args.out.join("dit.safetensors").display()
+    );
+    Ok(())
+}
