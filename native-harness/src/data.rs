@@ -1556,26 +1556,7 @@ pub fn subset(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<SubsetSumm
         }
     }
     let picked = select_subset(&entries, &with_license_text, opts);
-    let mut shards: HashMap<String, Shard> = HashMap::new();
-    let mut kept = Vec::with_capacity(picked.len());
-    for e in picked {
-        if !shards.contains_key(&e.shard) {
-            let path = dir.join(&e.shard);
-            let bytes =
-                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-            let shard = Shard::from_bytes(&bytes)
-                .with_context(|| format!("{} is corrupt", path.display()))?;
-            shards.insert(e.shard.clone(), shard);
-        }
-        let Some(mesh) = shards[&e.shard].get(e.index) else {
-            bail!(
-                "{} has no mesh {} (manifest and shards disagree)",
-                e.shard,
-                e.index
-            );
-        };
-        kept.push((e, mesh));
-    }
+    let mut kept = load_meshes(dir, picked)?;
     let texts = |package: &str| dataset_license_texts(dir, package);
     let (shard_summaries, splits) = write_dataset(out, &mut kept, &texts)?;
     let mut packages = BTreeMap::new();
@@ -1625,6 +1606,35 @@ pub fn subset_command(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<()
 
 // ---------------------------------------------------------------------------------------
 // stats and show
+
+/// The meshes of manifest `entries` of the build in `dir`, each shard read once.
+pub fn load_meshes<E: std::borrow::Borrow<ManifestEntry>>(
+    dir: &Path,
+    entries: impl IntoIterator<Item = E>,
+) -> Result<Vec<(E, Mesh)>> {
+    let mut shards: HashMap<String, Shard> = HashMap::new();
+    let mut out = Vec::new();
+    for e in entries {
+        let entry = e.borrow();
+        if !shards.contains_key(&entry.shard) {
+            let path = dir.join(&entry.shard);
+            let bytes =
+                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
+            let shard = Shard::from_bytes(&bytes)
+                .with_context(|| format!("{} is corrupt", path.display()))?;
+            shards.insert(entry.shard.clone(), shard);
+        }
+        let Some(mesh) = shards[&entry.shard].get(entry.index) else {
+            bail!(
+                "{} has no mesh {} (manifest and shards disagree)",
+                entry.shard,
+                entry.index
+            );
+        };
+        out.push((e, mesh));
+    }
+    Ok(out)
+}
 
 pub fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
     let path = dir.join("manifest.jsonl");

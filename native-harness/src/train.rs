@@ -10,7 +10,7 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::Mesh;
-use meshflow::dataset::{Shard, Split};
+use meshflow::dataset::Split;
 use meshflow::device::{BackendKind, device};
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
 use meshflow::tokens::build_tokens;
@@ -20,7 +20,7 @@ use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::BadInput;
-use crate::data::read_manifest;
+use crate::data::{load_meshes, read_manifest};
 
 #[derive(Subcommand)]
 pub enum TrainCommand {
@@ -151,27 +151,11 @@ fn resolve_config(name: &str) -> Result<VaeTrainConfig> {
 /// The meshes of one split of a shard build, in manifest order.
 pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
     let entries = read_manifest(dir)?;
-    let mut shards: std::collections::BTreeMap<String, Shard> = Default::default();
-    let mut meshes = Vec::new();
-    for e in entries.iter().filter(|e| e.split == split) {
-        if !shards.contains_key(&e.shard) {
-            let path = dir.join(&e.shard);
-            let bytes =
-                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-            let shard = Shard::from_bytes(&bytes)
-                .with_context(|| format!("{} is corrupt", path.display()))?;
-            shards.insert(e.shard.clone(), shard);
-        }
-        let Some(mesh) = shards[&e.shard].get(e.index) else {
-            bail!(
-                "{} has no mesh {} (manifest and shards disagree)",
-                e.shard,
-                e.index
-            );
-        };
-        meshes.push(mesh);
-    }
-    Ok(meshes)
+    let wanted = entries.iter().filter(|e| e.split == split);
+    Ok(load_meshes(dir, wanted)?
+        .into_iter()
+        .map(|(_, m)| m)
+        .collect())
 }
 
 /// A progress bar for a training run.
