@@ -22,12 +22,15 @@
 //! - [`voxel`]: voxel indices at resolution 32 for the DiT's RoPE-3D.
 //! - [`tokens`]: vertex order, padding, Fourier features and neighbour block for the MeshVAE.
 //! - [`extract`]: spacetime edge threshold and Algorithm 1 (edges -> faces -> repaired mesh).
+//! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
+//! - [`generate`]: the inference path, point cloud -> DiT sampling -> VAE decode -> mesh.
 //! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
 //! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
 pub mod augment;
+pub mod budget;
 pub mod cards;
 pub mod clean;
 pub mod condition;
@@ -35,6 +38,7 @@ pub mod dataset;
 pub mod device;
 pub mod disjoint_sets;
 pub mod extract;
+pub mod generate;
 pub mod io;
 pub mod mesh;
 pub mod metrics;

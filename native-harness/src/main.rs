@@ -6,6 +6,7 @@
 mod bench;
 mod commands;
 mod data;
+mod generate;
 mod plot;
 mod progress;
 mod train;
@@ -94,6 +95,9 @@ enum Command {
         #[command(subcommand)]
         which: DataCommand,
     },
+    /// Generates an artist-like mesh from a point cloud (or a mesh, surface-sampled first) with
+    /// the shipped DiT and VAE; prints per-stage times and the topology report.
+    Generate(generate::GenerateArgs),
     /// Encodes, decodes and extracts a mesh with the VAE; prints the reconstruction figures.
     Reconstruct(vae_eval::ReconstructArgs),
     /// Evaluation with the paper's metrics; JSON out.
@@ -121,6 +125,12 @@ enum EvalCommand {
     /// VAE reconstruction of a split (or a folder of meshes): Table 3 metrics, CD/HD x100,
     /// topology, per size bucket.
     Vae(vae_eval::EvalVaeArgs),
+    /// Generation from surface samples of a split (or a folder of meshes): CD/HD x100 and
+    /// topology beside the VAE's reconstruction and an optional Poisson + QEM baseline.
+    Generate(generate::EvalGenerateArgs),
+    /// Fits the default vertex-budget rule on a split and reports how well it predicts the
+    /// meshes' vertex counts.
+    Budget(generate::EvalBudgetArgs),
 }
 
 #[derive(Subcommand)]
@@ -288,9 +298,12 @@ fn main() -> ExitCode {
         Command::Bench { which } => bench::run(which),
         Command::Train { which } => train::run(which),
         Command::Verify(args) => verify::run(args),
+        Command::Generate(args) => generate::generate(args),
         Command::Reconstruct(args) => vae_eval::reconstruct(args),
         Command::Eval { which } => match which {
             EvalCommand::Vae(args) => vae_eval::eval_vae(args),
+            EvalCommand::Generate(args) => generate::eval_generate(args),
+            EvalCommand::Budget(args) => generate::eval_budget(args),
         },
     };
     match result {

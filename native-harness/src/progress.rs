@@ -16,3 +16,17 @@ pub fn step<T>(label: &str, work: impl FnOnce() -> T) -> T {
     bar.finish_and_clear();
     out
 }
+
+/// A bar over the sampler's `steps` on stderr; hidden when `quiet` (e.g. `--json`) or when
+/// stderr is not a terminal.
+pub fn step_bar(steps: usize, quiet: bool) -> ProgressBar {
+    if quiet {
+        return ProgressBar::hidden();
+    }
+    let bar = ProgressBar::new(steps as u64);
+    bar.set_style(
+        ProgressStyle::with_template("sampling [{bar:30}] {pos}/{len} steps {elapsed}")
+            .expect("template"),
+    );
+    bar
+}

@@ -380,25 +380,39 @@ fn write_weights(dir: &Path, bytes: &[u8], manifest: &WeightsManifest) -> Result
     Ok(())
 }
 
-/// Loads shipped weights: the config JSON, the safetensors (checked against the manifest's
-/// sha256 when one is beside it) and the manifest.
+/// Reads `dir/NAME.manifest.json` and `dir/NAME.safetensors`, refusing weights whose sha256
+/// is not the manifest's.
+pub fn read_checked<M: serde::de::DeserializeOwned>(
+    dir: &Path,
+    name: &str,
+) -> Result<(M, Vec<u8>)> {
+    let manifest_path = dir.join(format!("{name}.manifest.json"));
+    let manifest: serde_json::Value = serde_json::from_slice(
+        &fs::read(&manifest_path)
+            .with_context(|| format!("cannot read {}", manifest_path.display()))?,
+    )
+    .with_context(|| format!("{} is not JSON", manifest_path.display()))?;
+    let weights_path = dir.join(format!("{name}.safetensors"));
+    let bytes = fs::read(&weights_path)
+        .with_context(|| format!("cannot read {}", weights_path.display()))?;
+    if manifest["sha256"].as_str() != Some(sha256_hex(&bytes).as_str()) {
+        bail!(BadInput(format!(
+            "{}: sha256 does not match the manifest",
+            weights_path.display()
+        )));
+    }
+    let manifest = serde_json::from_value(manifest)
+        .with_context(|| format!("{} is not a {name} manifest", manifest_path.display()))?;
+    Ok((manifest, bytes))
+}
+
+/// Loads shipped weights: the safetensors (checked against the manifest's sha256) and the
+/// manifest, whose model config sizes the network.
 pub fn load_weights(
     dir: &Path,
     device: &meshflow::burn::tensor::Device,
 ) -> Result<(MeshVae, WeightsManifest)> {
-    let manifest_path = dir.join("vae.manifest.json");
-    let manifest: WeightsManifest = serde_json::from_slice(
-        &fs::read(&manifest_path)
-            .with_context(|| format!("cannot read {}", manifest_path.display()))?,
-    )
-    .with_context(|| format!("{} is not a weights manifest", manifest_path.display()))?;
-    let bytes = fs::read(dir.join("vae.safetensors"))?;
-    if sha256_hex(&bytes) != manifest.sha256 {
-        bail!(BadInput(format!(
-            "{}: sha256 does not match the manifest",
-            dir.join("vae.safetensors").display()
-        )));
-    }
+    let (manifest, bytes): (WeightsManifest, _) = read_checked(dir, "vae")?;
     manifest
         .model
         .validate()

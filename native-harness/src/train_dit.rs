@@ -12,7 +12,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::device::{BackendKind, device};
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 use crate::BadInput;
 use crate::train::{Backend, BarObserver, load_split, load_weights, sha256_hex};
@@ -39,18 +39,20 @@ pub struct TrainDitArgs {
     backend: Backend,
 }
 
-#[derive(Serialize)]
-struct DitManifest {
-    model: DitConfig,
-    sha256: String,
-    parameters: usize,
-    command: String,
-    training: DitTrainConfig,
-    vae_sha256: String,
-    train_examples: usize,
-    final_validation_loss: Option<f64>,
-    wall_time_s: f64,
-    backend: String,
+/// What ships beside `dit.safetensors`.
+#[derive(Serialize, Deserialize)]
+pub struct DitManifest {
+    pub model: DitConfig,
+    pub sha256: String,
+    pub parameters: usize,
+    pub command: String,
+    pub training: DitTrainConfig,
+    /// The VAE whose latents the DiT was trained on.
+    pub vae_sha256: String,
+    pub train_examples: usize,
+    pub final_validation_loss: Option<f64>,
+    pub wall_time_s: f64,
+    pub backend: String,
 }
 
 pub fn run(args: TrainDitArgs) -> Result<()> {

@@ -129,18 +129,10 @@ fn print_metrics(m: &ReconstructionMetrics) {
     );
 }
 
-/// Mean figures over a set of meshes.
+/// Mean surface and topology figures over meshes' comparisons with their ground truth;
+/// meshes without a comparison (no faces extracted) are counted, not averaged.
 #[derive(Default, Serialize)]
-pub struct Summary {
-    pub meshes: usize,
-    pub vertex_distance_x100: f64,
-    pub normal_distance_x100: f64,
-    /// Mean of per-mesh precision / recall / F1.
-    pub edge_precision: f64,
-    pub edge_recall: f64,
-    pub edge_f1: f64,
-    /// F1 over all edges of all meshes pooled.
-    pub edge_f1_pooled: f64,
+pub struct SurfaceSummary {
     /// Meshes whose extraction gave no faces; the figures below are over the others.
     pub no_faces: usize,
     pub chamfer_x100: f64,
@@ -153,6 +145,46 @@ pub struct Summary {
     pub inconsistent_winding_edges: f64,
     pub degenerate_faces: f64,
     pub components: f64,
+}
+
+impl SurfaceSummary {
+    pub fn of(comparisons: &[Option<&Comparison>]) -> Self {
+        let surfaces: Vec<&Comparison> = comparisons.iter().flatten().copied().collect();
+        let k = surfaces.len().max(1) as f64;
+        let mean =
+            |f: &dyn Fn(&Comparison) -> f64| surfaces.iter().map(|c| f(c)).sum::<f64>() / k + 0.0;
+        SurfaceSummary {
+            no_faces: comparisons.len() - surfaces.len(),
+            chamfer_x100: mean(&|c| c.chamfer_x100),
+            hausdorff_x100: mean(&|c| c.hausdorff_x100),
+            faces_out: mean(&|c| c.pred_topology.faces as f64),
+            faces_in: mean(&|c| c.gt_topology.faces as f64),
+            non_manifold_edges: mean(&|c| c.pred_topology.non_manifold_edges as f64),
+            boundary_edges: mean(&|c| c.pred_topology.boundary_edges as f64),
+            holes: mean(&|c| c.pred_topology.holes as f64),
+            inconsistent_winding_edges: mean(&|c| {
+                c.pred_topology.inconsistent_winding_edges as f64
+            }),
+            degenerate_faces: mean(&|c| c.pred_topology.degenerate_faces as f64),
+            components: mean(&|c| c.pred_topology.components as f64),
+        }
+    }
+}
+
+/// Mean figures over a set of meshes.
+#[derive(Default, Serialize)]
+pub struct Summary {
+    pub meshes: usize,
+    pub vertex_distance_x100: f64,
+    pub normal_distance_x100: f64,
+    /// Mean of per-mesh precision / recall / F1.
+    pub edge_precision: f64,
+    pub edge_recall: f64,
+    pub edge_f1: f64,
+    /// F1 over all edges of all meshes pooled.
+    pub edge_f1_pooled: f64,
+    #[serde(flatten)]
+    pub surface: SurfaceSummary,
     pub mask_errors: f64,
 }
 
@@ -160,10 +192,6 @@ fn summarise(ms: &[&ReconstructionMetrics]) -> Summary {
     let k = ms.len().max(1) as f64;
     let mean =
         |f: &dyn Fn(&ReconstructionMetrics) -> f64| ms.iter().map(|m| f(m)).sum::<f64>() / k + 0.0;
-    let surfaces: Vec<&Comparison> = ms.iter().filter_map(|m| m.comparison.as_ref()).collect();
-    let ks = surfaces.len().max(1) as f64;
-    let smean =
-        |f: &dyn Fn(&Comparison) -> f64| surfaces.iter().map(|c| f(c)).sum::<f64>() / ks + 0.0;
     let (tp, fp, fn_) = ms.iter().fold((0, 0, 0), |(a, b, c), m| {
         (
             a + m.true_positive_edges,
@@ -173,6 +201,7 @@ fn summarise(ms: &[&ReconstructionMetrics]) -> Summary {
     });
     let p = tp as f64 / (tp + fp).max(1) as f64;
     let r = tp as f64 / (tp + fn_).max(1) as f64;
+    let comparisons: Vec<Option<&Comparison>> = ms.iter().map(|m| m.comparison.as_ref()).collect();
     Summary {
         meshes: ms.len(),
         vertex_distance_x100: mean(&|m| m.vertex_distance_x100),
@@ -185,17 +214,7 @@ fn summarise(ms: &[&ReconstructionMetrics]) -> Summary {
         } else {
             0.0
         },
-        no_faces: ms.len() - surfaces.len(),
-        chamfer_x100: smean(&|c| c.chamfer_x100),
-        hausdorff_x100: smean(&|c| c.hausdorff_x100),
-        faces_out: smean(&|c| c.pred_topology.faces as f64),
-        faces_in: smean(&|c| c.gt_topology.faces as f64),
-        non_manifold_edges: smean(&|c| c.pred_topology.non_manifold_edges as f64),
-        boundary_edges: smean(&|c| c.pred_topology.boundary_edges as f64),
-        holes: smean(&|c| c.pred_topology.holes as f64),
-        inconsistent_winding_edges: smean(&|c| c.pred_topology.inconsistent_winding_edges as f64),
-        degenerate_faces: smean(&|c| c.pred_topology.degenerate_faces as f64),
-        components: smean(&|c| c.pred_topology.components as f64),
+        surface: SurfaceSummary::of(&comparisons),
         mask_errors: mean(&|m| m.mask_errors as f64),
     }
 }
@@ -253,47 +272,68 @@ fn folder_meshes(dir: &Path, max_vertices: usize) -> Result<(NamedMeshes, Vec<St
     Ok((meshes, skipped))
 }
 
-pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
-    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let (vae, manifest) = load_weights(&args.weights, &device)?;
-    let cfg = &manifest.model;
-    let (mut meshes, mut skipped, source) = match &args.input {
+/// The meshes an evaluation runs on: every mesh file of `input` (prepared like the data
+/// build), or else the named split of a shard build; meshes with more than `max_vertices`
+/// are left out and listed as skipped, and at most `limit` are kept (0 = all). Also returns
+/// a description of the source. No mesh at all is an error.
+pub fn eval_meshes(
+    input: Option<&Path>,
+    split: &str,
+    data: Option<PathBuf>,
+    max_vertices: usize,
+    limit: usize,
+) -> Result<(NamedMeshes, Vec<String>, String)> {
+    let (mut meshes, skipped, source) = match input {
         Some(dir) => {
-            let (m, s) = folder_meshes(dir, cfg.num_vertices)?;
+            let (m, s) = folder_meshes(dir, max_vertices)?;
             (m, s, dir.display().to_string())
         }
-        None => {
-            let split = parse_split(&args.split)?;
-            let data = args
-                .data
-                .clone()
-                .unwrap_or_else(|| crate::data::default_cache().join("shards"));
-            let all = load_split(&data, split)?;
-            let total = all.len();
-            let kept: Vec<(String, Mesh)> = all
-                .into_iter()
-                .enumerate()
-                .filter(|(_, m)| m.positions.len() <= cfg.num_vertices)
-                .map(|(i, m)| (format!("{}#{i}", split.name()), m))
-                .collect();
-            let skipped = vec![format!(
-                "{} of {total} meshes have more than {} vertices",
-                total - kept.len(),
-                cfg.num_vertices
-            )];
-            (
-                kept,
-                skipped,
-                format!("{} split of {}", split.name(), data.display()),
-            )
-        }
+        None => split_meshes(split, data, max_vertices)?,
     };
-    if args.limit > 0 {
-        meshes.truncate(args.limit);
+    if limit > 0 {
+        meshes.truncate(limit);
     }
     if meshes.is_empty() {
         bail!(BadInput("no mesh to evaluate".into()));
     }
+    Ok((meshes, skipped, source))
+}
+
+/// The meshes of a split with at most `max_vertices` vertices.
+fn split_meshes(
+    split: &str,
+    data: Option<PathBuf>,
+    max_vertices: usize,
+) -> Result<(NamedMeshes, Vec<String>, String)> {
+    let split = parse_split(split)?;
+    let data = data.unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let all = load_split(&data, split)?;
+    let total = all.len();
+    let kept: NamedMeshes = all
+        .into_iter()
+        .enumerate()
+        .filter(|(_, m)| m.positions.len() <= max_vertices)
+        .map(|(i, m)| (format!("{}#{i}", split.name()), m))
+        .collect();
+    let skipped = vec![format!(
+        "{} of {total} meshes have more than {max_vertices} vertices",
+        total - kept.len(),
+    )];
+    let source = format!("{} split of {}", split.name(), data.display());
+    Ok((kept, skipped, source))
+}
+
+pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
+    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let (vae, manifest) = load_weights(&args.weights, &device)?;
+    let cfg = &manifest.model;
+    let (meshes, mut skipped, source) = eval_meshes(
+        args.input.as_deref(),
+        &args.split,
+        args.data.clone(),
+        cfg.num_vertices,
+        args.limit,
+    )?;
     if let Some(dir) = &args.meshes {
         fs::create_dir_all(dir)?;
     }
@@ -374,19 +414,24 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         s.edge_recall,
         s.edge_f1,
         s.edge_f1_pooled,
-        s.chamfer_x100,
-        s.hausdorff_x100
+        s.surface.chamfer_x100,
+        s.surface.hausdorff_x100
     );
     for (name, b) in &report.buckets {
         println!(
             "  {name:>6} vertices: {:4} meshes, F1 {:.3}, CD x100 {:.3}, HD x100 {:.3}",
-            b.meshes, b.edge_f1, b.chamfer_x100, b.hausdorff_x100
+            b.meshes, b.edge_f1, b.surface.chamfer_x100, b.surface.hausdorff_x100
         );
     }
     println!(
         "  extracted topology (mean per mesh): {:.1} faces (gt {:.1}), {:.2} non-manifold edges, \
          {:.2} holes, {:.2} components; {} with no faces",
-        s.faces_out, s.faces_in, s.non_manifold_edges, s.holes, s.components, s.no_faces
+        s.surface.faces_out,
+        s.surface.faces_in,
+        s.surface.non_manifold_edges,
+        s.surface.holes,
+        s.surface.components,
+        s.surface.no_faces
     );
     if let Some(out) = &args.output {
         fs::write(out, serde_json::to_string_pretty(&report)?)?;

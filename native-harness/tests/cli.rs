@@ -451,11 +451,183 @@ fn train_dit_on_latents_of_the_shipped_vae() {
             .unwrap()
             .is_finite()
     );
+    generate_with_a_trained_dit(&weights, &run, &dir);
     // A DiT sized for other latents than the VAE makes is refused.
     std::fs::write(&config, tiny(64)).unwrap();
     let a = args(&config);
     let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("latents"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// `generate` (single file, folder, bad input) and `eval generate` with the shipped VAE and
+/// the DiT just trained in `run`.
+fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
+    let weights = dir.join("weights");
+    std::fs::create_dir_all(&weights).unwrap();
+    for f in ["vae.safetensors", "vae.json", "vae.manifest.json"] {
+        std::fs::copy(shipped.join(f), weights.join(f)).unwrap();
+    }
+    for f in ["dit.safetensors", "dit.json", "dit.manifest.json"] {
+        std::fs::copy(run.join(f), weights.join(f)).unwrap();
+    }
+    let w = weights.to_str().unwrap();
+    let points = fixture("points/stone_lantern_2048.ply");
+    let glb = dir.join("lantern.glb");
+    let out = meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+        "--steps",
+        "3",
+        "--vertices",
+        "200",
+        "--json",
+    ]);
+    let report = json(&out);
+    assert_eq!(report["vertex_budget"], 200);
+    for stage in ["condition_s", "sample_s", "decode_s", "extract_s"] {
+        assert!(report["times"][stage].as_f64().unwrap() >= 0.0, "{stage}");
+    }
+    let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
+    assert_eq!(back["faces"], report["topology"]["faces"]);
+    assert_eq!(back["vertices"], report["topology"]["vertices"]);
+
+    // Folder mode: every readable file gets a GLB; a bad one is reported and fails the run.
+    let inputs = dir.join("inputs");
+    std::fs::create_dir_all(&inputs).unwrap();
+    std::fs::copy(&points, inputs.join("lantern.ply")).unwrap();
+    std::fs::copy(fixture("meshes/stone_lantern.obj"), inputs.join("mesh.obj")).unwrap();
+    std::fs::write(
+        inputs.join("broken.ply"),
+        "ply\nformat ascii 1.0\nelement vertex 3\n",
+    )
+    .unwrap();
+    let outputs = dir.join("outputs");
+    let out = meshflow(&[
+        "generate",
+        inputs.to_str().unwrap(),
+        "-o",
+        outputs.to_str().unwrap(),
+        "--weights",
+        w,
+        "--steps",
+        "2",
+    ]);
+    assert_eq!(out.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.contains("broken.ply") && stderr.contains("1 of 3 inputs failed"),
+        "{stderr}"
+    );
+    assert!(outputs.join("lantern.glb").is_file() && outputs.join("mesh.glb").is_file());
+
+    // Bad options and mismatched weights are one-line errors with status 2.
+    let bad = meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+        "--vertices",
+        "0",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("vertex budget 0"));
+    let mut manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(weights.join("dit.manifest.json")).unwrap()).unwrap();
+    let good = manifest.clone();
+    manifest["vae_sha256"] = "0".repeat(64).into();
+    std::fs::write(weights.join("dit.manifest.json"), manifest.to_string()).unwrap();
+    let bad = meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("another VAE"));
+    std::fs::write(weights.join("dit.manifest.json"), good.to_string()).unwrap();
+
+    // Evaluation on a folder of meshes: ours beside the VAE bound, JSON out.
+    let meshes = dir.join("eval-meshes");
+    let report_path = dir.join("eval.json");
+    let out = meshflow(&[
+        "eval",
+        "generate",
+        "--input",
+        fixture("meshes").to_str().unwrap(),
+        "--limit",
+        "2",
+        "--weights",
+        w,
+        "--steps",
+        "2",
+        "--meshes",
+        meshes.to_str().unwrap(),
+        "-o",
+        report_path.to_str().unwrap(),
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let report: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(&report_path).unwrap()).unwrap();
+    assert_eq!(report["all"]["meshes"], 2);
+    assert_eq!(report["per_mesh"].as_array().unwrap().len(), 2);
+    assert!(
+        report["all"]["vae_upper_bound"]["chamfer_x100"]
+            .as_f64()
+            .unwrap()
+            > 0.0
+    );
+    assert!(meshes.join("0.points.ply").is_file() && meshes.join("targets.json").is_file());
+}
+
+#[test]
+fn the_shipped_models_generate_on_lavapipe() {
+    let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights");
+    let dir = temp_dir("shipped-generate");
+    let glb = dir.join("lantern.glb");
+    let points = fixture("points/stone_lantern_2048.ply");
+    let report = json(&meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        weights.to_str().unwrap(),
+        "--backend",
+        "wgpu",
+        "--steps",
+        "4",
+        "--json",
+    ]));
+    assert!(report["topology"]["faces"].as_u64().unwrap() > 0);
+    let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
+    assert_eq!(back["faces"], report["topology"]["faces"]);
+    // The GLB passes the Khronos validator (node_modules from `npm ci`, as scripts/test.sh does).
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+    let out = Command::new("node")
+        .arg(root.join("tests/validate-gltf.mjs"))
+        .arg(&glb)
+        .current_dir(&root)
+        .output()
+        .expect("could not run `node` (is Node.js installed?)");
+    assert!(
+        out.status.success(),
+        "glTF validator: {}{}",
+        String::from_utf8_lossy(&out.stdout),
+        String::from_utf8_lossy(&out.stderr)
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,11 +1,12 @@
 //! Euler sampling of the rectified flow: from noise at t = 1 to latents, one DiT evaluation per
 //! step, with a progress callback and cancellation between steps.
 
-use burn::tensor::Tensor;
+use burn::tensor::{Device, Tensor, TensorData};
 
 use super::dit::{Dit, Rope};
 use super::schedule::{ScheduleMode, step_times};
 use super::vae::Trace;
+use crate::rng::Rng;
 
 /// Why sampling stopped without a result.
 #[derive(Clone, Debug, PartialEq, Eq, thiserror::Error)]
@@ -43,4 +44,13 @@ pub fn sample(
         }
     }
     Ok(x)
+}
+
+/// Standard normal noise of `shape`, drawn from `rng` in row-major order (the same values on
+/// every backend and platform).
+pub fn normal_noise(rng: &mut Rng, shape: [usize; 3], device: &Device) -> Tensor<3> {
+    let values: Vec<f32> = (0..shape.iter().product::<usize>())
+        .map(|_| rng.normal() as f32)
+        .collect();
+    Tensor::from_data(TensorData::new(values, shape), device)
 }

@@ -16,10 +16,11 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{TrainError, TrainObserver, ema_update, normal_noise, open_run, scalar, warmup_cosine};
+use super::{TrainError, TrainObserver, ema_update, open_run, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::condition::{latent_positions, vertex_condition};
 use crate::model::dit::{Dit, DitConfig, Rope};
+use crate::model::sampler::normal_noise;
 use crate::model::weights::{TensorMap, WeightsError, load_module};
 use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, seeded_init};
 use crate::rng::Rng;

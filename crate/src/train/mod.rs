@@ -8,10 +8,9 @@ pub mod vae;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use burn::tensor::{Device, Tensor, TensorData};
+use burn::tensor::{Device, Tensor};
 
 use crate::model::weights::{TensorMap, WeightsError};
-use crate::rng::Rng;
 
 /// Why training stopped early.
 #[derive(Debug, thiserror::Error)]
@@ -168,13 +167,6 @@ pub(crate) fn scalar(t: Tensor<1>) -> f64 {
 }
 
 /// Standard-normal noise from the run's RNG (so a resumed run draws the same numbers).
-pub(crate) fn normal_noise(rng: &mut Rng, shape: [usize; 3], device: &Device) -> Tensor<3> {
-    let values: Vec<f32> = (0..shape.iter().product::<usize>())
-        .map(|_| rng.normal() as f32)
-        .collect();
-    Tensor::from_data(TensorData::new(values, shape), device)
-}
-
 /// `ema = decay ema + (1 - decay) current`, tensor by tensor.
 pub(crate) fn ema_update(ema: &mut TensorMap, current: &TensorMap, decay: f32) {
     for (name, (_, values)) in ema.tensors.iter_mut() {

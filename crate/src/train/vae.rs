@@ -20,10 +20,11 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{TrainError, TrainObserver, ema_update, normal_noise, open_run, scalar, warmup_cosine};
+use super::{TrainError, TrainObserver, ema_update, open_run, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
+use crate::model::sampler::normal_noise;
 use crate::model::weights::{TensorMap, WeightsError, load_module};
 use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, seeded_init, spacetime_distances};
 use crate::rng::Rng;

@@ -1,0 +1,341 @@
+//! Point cloud -> artist-like mesh: the whole MeshFlow inference path, shared by the CLI and
+//! the browser.
+//!
+//! 1. **Condition**: the input points (a mesh is surface-sampled first, [`input_points`]) are
+//!    mapped into the model frame by their bounding box; the vertex budget is the caller's or
+//!    [`crate::budget::DEFAULT_RULE`]'s; latent RoPE positions come from
+//!    [`crate::condition::inference_positions`].
+//! 2. **Sample**: seeded Gaussian noise integrated by the Euler sampler with the DiT.
+//! 3. **Decode**: latents are de-normalised with the VAE manifest's mean/std and decoded.
+//! 4. **Extract**: Algorithm 1 on the decoded vertices, then back to the input's frame.
+
+use burn::tensor::{Device, Tensor, TensorData};
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+use web_time::Instant;
+
+use crate::Mesh;
+use crate::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
+use crate::condition::{inference_positions, vertex_condition};
+use crate::extract::{DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded};
+use crate::model::dit::{Dit, DitConfig, Rope};
+use crate::model::sampler::{SampleError, normal_noise, sample};
+use crate::model::schedule::ScheduleMode;
+use crate::model::{MeshVae, Trace, VaeConfig};
+use crate::normalize::Normalization;
+use crate::rng::Rng;
+use crate::sample::{sample_surface, subsample_points};
+use crate::topology::TopologyReport;
+
+/// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
+pub const CONDITION_POINTS: usize = 4096;
+
+/// Why a generation failed.
+#[derive(Debug, thiserror::Error)]
+pub enum GenerateError {
+    #[error("the input has no points")]
+    NoPoints,
+    #[error("the input has a non-finite coordinate (point {0})")]
+    NonFinite(usize),
+    #[error("all input points coincide; there is no shape to mesh")]
+    Degenerate,
+    #[error("vertex budget {asked} is outside 1..={max} (the VAE's vertex count)")]
+    Budget { asked: usize, max: usize },
+    #[error(transparent)]
+    Sampling(#[from] SampleError),
+    #[error(transparent)]
+    Surface(#[from] crate::sample::SampleError),
+    #[error(transparent)]
+    Extract(#[from] crate::extract::ExtractError),
+    #[error("the VAE makes {vae:?} latents but the DiT takes {dit:?}")]
+    Mismatch {
+        vae: (usize, usize),
+        dit: (usize, usize),
+    },
+    #[error("reading back from the device failed: {0}")]
+    Readback(String),
+}
+
+/// What the caller chooses.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct GenerateOptions {
+    /// Vertices to ask for; `None` uses the default rule on the input's shape.
+    pub vertices: Option<usize>,
+    /// Euler steps (the paper: 28).
+    pub steps: usize,
+    pub seed: u64,
+    pub schedule: ScheduleMode,
+    pub extract: ExtractOptions,
+}
+
+impl Default for GenerateOptions {
+    fn default() -> Self {
+        Self {
+            vertices: None,
+            steps: 28,
+            seed: 0,
+            schedule: ScheduleMode::ToZero,
+            extract: ExtractOptions::default(),
+        }
+    }
+}
+
+/// Wall time of each stage, in seconds.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct StageTimes {
+    /// Normalisation, budget, RoPE positions.
+    pub condition_s: f64,
+    pub sample_s: f64,
+    pub decode_s: f64,
+    pub extract_s: f64,
+}
+
+/// One generated mesh, in the input's frame.
+#[derive(Clone, Debug)]
+pub struct Generated {
+    pub mesh: Mesh,
+    pub vertex_budget: usize,
+    pub features: ShapeFeatures,
+    pub extract: ExtractReport,
+    pub topology: TopologyReport,
+    /// Stage times of the whole batch this mesh was generated in.
+    pub times: StageTimes,
+}
+
+/// The points to condition on: a mesh's surface samples, or a point cloud's own points
+/// (subsampled to [`CONDITION_POINTS`] when larger). A mesh whose faces have no area counts
+/// as a point cloud of its vertices.
+pub fn input_points(input: &Mesh, seed: u64) -> Result<Vec<Vec3>, GenerateError> {
+    if !input.faces.is_empty() {
+        match sample_surface(input, CONDITION_POINTS, seed) {
+            Ok(s) => return Ok(s.points),
+            Err(crate::sample::SampleError::ZeroArea { .. }) => {}
+            Err(e) => return Err(e.into()),
+        }
+    }
+    let points = &input.positions;
+    if points.len() > CONDITION_POINTS {
+        Ok(subsample_points(points, CONDITION_POINTS, seed))
+    } else {
+        Ok(points.clone())
+    }
+}
+
+/// Maps `points` into the model frame; returns them with the transform back.
+pub fn to_model_frame(points: &[Vec3]) -> Result<(Vec<Vec3>, Normalization), GenerateError> {
+    if points.is_empty() {
+        return Err(GenerateError::NoPoints);
+    }
+    if let Some(i) = points.iter().position(|p| !p.is_finite()) {
+        return Err(GenerateError::NonFinite(i));
+    }
+    let aabb = crate::Aabb::of(points).ok_or(GenerateError::NoPoints)?;
+    if aabb.max_extent() <= f32::EPSILON * aabb.center().abs().max_element().max(1.0) {
+        return Err(GenerateError::Degenerate);
+    }
+    let norm = Normalization::to_model_frame(aabb);
+    Ok((
+        points.iter().map(|&p| norm.apply(p)).collect(),
+        norm.inverse(),
+    ))
+}
+
+/// A loaded VAE and DiT, ready to generate.
+pub struct Generator<'a> {
+    pub vae: &'a MeshVae,
+    pub vae_config: &'a VaeConfig,
+    /// Per latent channel, from the VAE manifest: the DiT samples normalised latents.
+    pub latent_mean: &'a [f32],
+    pub latent_std: &'a [f32],
+    pub dit: &'a Dit,
+    pub dit_config: &'a DitConfig,
+    pub budget_rule: BudgetRule,
+    pub device: &'a Device,
+}
+
+struct Conditioned {
+    to_input: Normalization,
+    budget: usize,
+    features: ShapeFeatures,
+    positions: Vec<[f32; 3]>,
+}
+
+impl Generator<'_> {
+    /// Generates one mesh per input point set (input frame, e.g. from [`input_points`]), in
+    /// one batch: every input gets the same steps and options, and its own seeded noise
+    /// (`seed + index`). `on_step(step, steps)` runs after every Euler step; returning false
+    /// cancels.
+    pub fn generate(
+        &self,
+        inputs: &[Vec<Vec3>],
+        opts: &GenerateOptions,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
+        let (vae, dit) = (self.vae_config, self.dit_config);
+        let (l, d) = (vae.num_latents, vae.latent_dim);
+        if (l, d) != (dit.num_latents, dit.latent_dim) {
+            return Err(GenerateError::Mismatch {
+                vae: (l, d),
+                dit: (dit.num_latents, dit.latent_dim),
+            });
+        }
+        if inputs.is_empty() {
+            return Ok(Vec::new());
+        }
+        let started = Instant::now();
+        let conditioned = inputs
+            .iter()
+            .enumerate()
+            .map(|(k, points)| self.condition(points, opts, opts.seed + k as u64))
+            .collect::<Result<Vec<_>, _>>()?;
+        let b = inputs.len();
+        let positions: Vec<[f32; 3]> = conditioned
+            .iter()
+            .flat_map(|c| c.positions.iter().copied())
+            .collect();
+        let rope = Rope::new(&positions, b, dit.width / dit.num_heads, self.device);
+        let cond: Vec<f32> = conditioned
+            .iter()
+            .map(|c| vertex_condition(c.budget, l))
+            .collect();
+        let cond = Tensor::from_data(TensorData::new(cond, [b, 1]), self.device);
+        let noise: Vec<Tensor<3>> = (0..b)
+            .map(|k| normal_noise(&mut Rng::new(opts.seed + k as u64), [1, l, d], self.device))
+            .collect();
+        let noise = Tensor::cat(noise, 0);
+        let mut times = StageTimes {
+            condition_s: started.elapsed().as_secs_f64(),
+            ..Default::default()
+        };
+
+        let started = Instant::now();
+        let latents = sample(
+            self.dit,
+            noise,
+            cond,
+            &rope,
+            opts.steps,
+            opts.schedule,
+            &mut |i, n, _| on_step(i, n),
+        )?;
+        let mean =
+            Tensor::<1>::from_data(TensorData::new(self.latent_mean.to_vec(), [d]), self.device);
+        let std =
+            Tensor::<1>::from_data(TensorData::new(self.latent_std.to_vec(), [d]), self.device);
+        let latents = latents * std.reshape([1, 1, d]) + mean.reshape([1, 1, d]);
+        // Reading the latents back ends the sampling stage on asynchronous backends.
+        let latents = Tensor::<3>::from_data(read(latents)?, self.device).reshape([b, l, d]);
+        times.sample_s = started.elapsed().as_secs_f64();
+
+        let started = Instant::now();
+        let out = self.vae.decode(latents, &mut Trace::default());
+        let logits = read_vec(out.mask_logits)?;
+        let positions = read_vec(out.positions)?;
+        let normals = read_vec(out.normals)?;
+        let embeddings = read_vec(out.edge_embeddings)?;
+        times.decode_s = started.elapsed().as_secs_f64();
+
+        let started = Instant::now();
+        let (n, e) = (vae.num_vertices, vae.edge_dim);
+        let mut meshes = Vec::with_capacity(b);
+        for (k, c) in conditioned.iter().enumerate() {
+            let rows = k * n..(k + 1) * n;
+            let pos = vec3s(&positions[rows.start * 3..rows.end * 3]);
+            let nrm = vec3s(&normals[rows.start * 3..rows.end * 3]);
+            let decoded = DecodedVertices {
+                mask_logits: &logits[rows.clone()],
+                positions: &pos,
+                normals: &nrm,
+                embeddings: &embeddings[rows.start * e..rows.end * e],
+                dim: e,
+            };
+            let (mesh, report) = extract_from_decoded(&decoded, &opts.extract)?;
+            let mesh = c.to_input.apply_mesh(&mesh);
+            meshes.push((mesh, report));
+        }
+        times.extract_s = started.elapsed().as_secs_f64();
+
+        Ok(meshes
+            .into_iter()
+            .zip(conditioned)
+            .map(|((mesh, extract), c)| Generated {
+                topology: TopologyReport::of(&mesh),
+                mesh,
+                vertex_budget: c.budget,
+                features: c.features,
+                extract,
+                times: times.clone(),
+            })
+            .collect())
+    }
+
+    fn condition(
+        &self,
+        points: &[Vec3],
+        opts: &GenerateOptions,
+        seed: u64,
+    ) -> Result<Conditioned, GenerateError> {
+        let vae = self.vae_config;
+        let (model_points, to_input) = to_model_frame(points)?;
+        let features = shape_features(&model_points, seed);
+        let max = vae.num_vertices;
+        let budget = match opts.vertices {
+            Some(v) if v == 0 || v > max => return Err(GenerateError::Budget { asked: v, max }),
+            Some(v) => v,
+            None => self.budget_rule.budget(&features, max),
+        };
+        let positions = inference_positions(
+            &model_points,
+            budget,
+            vae.num_latents,
+            vae.merge_ratio(),
+            seed,
+        );
+        Ok(Conditioned {
+            to_input,
+            budget,
+            features,
+            positions,
+        })
+    }
+}
+
+impl<'a> Generator<'a> {
+    /// A generator with the shipped default budget rule.
+    pub fn new(
+        vae: &'a MeshVae,
+        vae_config: &'a VaeConfig,
+        latent_mean: &'a [f32],
+        latent_std: &'a [f32],
+        dit: &'a Dit,
+        dit_config: &'a DitConfig,
+        device: &'a Device,
+    ) -> Self {
+        Self {
+            vae,
+            vae_config,
+            latent_mean,
+            latent_std,
+            dit,
+            dit_config,
+            budget_rule: DEFAULT_RULE,
+            device,
+        }
+    }
+}
+
+fn read(t: Tensor<3>) -> Result<TensorData, GenerateError> {
+    t.try_into_data()
+        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+}
+
+fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
+    read(t)?
+        .convert::<f32>()
+        .try_into_vec::<f32>()
+        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+}
+
+fn vec3s(flat: &[f32]) -> Vec<Vec3> {
+    flat.chunks_exact(3).map(Vec3::from_slice).collect()
+}

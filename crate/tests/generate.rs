@@ -1,0 +1,263 @@
+//! The inference path (`meshflow::generate`) with the shipped VAE (`weights/`) and a small
+//! seeded DiT, so the test does not depend on the shipped DiT's training: outputs are valid meshes in the
+//! input's frame, seeding is reproducible and batch-independent, cancellation and bad input
+//! give typed errors.
+
+use burn::tensor::Device;
+use glam::Vec3;
+use meshflow::generate::{GenerateError, GenerateOptions, Generator, input_points, to_model_frame};
+use meshflow::model::dit::{Dit, DitConfig};
+use meshflow::model::sampler::SampleError;
+use meshflow::model::{MeshVae, TensorMap, VaeConfig, load_module, seeded_init};
+use meshflow::primitives::icosphere;
+
+struct Models {
+    vae: MeshVae,
+    vae_cfg: VaeConfig,
+    dit: Dit,
+    dit_cfg: DitConfig,
+    mean: Vec<f32>,
+    std: Vec<f32>,
+    device: Device,
+}
+
+fn models() -> Models {
+    let device = Device::flex();
+    let weights = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../weights"));
+    let manifest: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(weights.join("vae.manifest.json")).unwrap()).unwrap();
+    let floats = |key: &str| -> Vec<f32> { serde_json::from_value(manifest[key].clone()).unwrap() };
+    let vae_cfg: VaeConfig = serde_json::from_value(manifest["model"].clone()).unwrap();
+    let vae_map =
+        TensorMap::from_safetensors(&std::fs::read(weights.join("vae.safetensors")).unwrap(), "")
+            .unwrap();
+    let dit_cfg = DitConfig {
+        num_latents: vae_cfg.num_latents,
+        latent_dim: vae_cfg.latent_dim,
+        width: 48,
+        depth: 2,
+        num_heads: 2,
+    };
+    Models {
+        vae: load_module(MeshVae::new(&vae_cfg, &device), &vae_map, &|_| false).unwrap(),
+        dit: seeded_init(Dit::new(&dit_cfg, &device), 3),
+        mean: floats("latent_mean"),
+        std: floats("latent_std"),
+        vae_cfg,
+        dit_cfg,
+        device,
+    }
+}
+
+impl Models {
+    fn generator(&self) -> Generator<'_> {
+        Generator::new(
+            &self.vae,
+            &self.vae_cfg,
+            &self.mean,
+            &self.std,
+            &self.dit,
+            &self.dit_cfg,
+            &self.device,
+        )
+    }
+}
+
+fn sphere_points(scale: f32, offset: Vec3) -> Vec<Vec3> {
+    let points = input_points(&icosphere(2), 0).unwrap();
+    points.iter().map(|&p| p * scale + offset).collect()
+}
+
+fn options(steps: usize) -> GenerateOptions {
+    GenerateOptions {
+        steps,
+        vertices: Some(40),
+        ..Default::default()
+    }
+}
+
+#[test]
+fn generated_meshes_are_valid_and_reported() {
+    let m = models();
+    let out = m
+        .generator()
+        .generate(
+            &[sphere_points(1.0, Vec3::ZERO)],
+            &options(4),
+            &mut |_, _| true,
+        )
+        .unwrap();
+    assert_eq!(out.len(), 1);
+    let g = &out[0];
+    g.mesh.validate().unwrap();
+    assert!(!g.mesh.faces.is_empty(), "{:?}", g.extract);
+    assert_eq!(g.vertex_budget, 40);
+    assert_eq!(g.topology.faces, g.mesh.faces.len());
+    assert_eq!(g.extract.faces, g.mesh.faces.len());
+    assert!(g.mesh.positions.len() <= m.vae_cfg.num_vertices);
+    assert!(g.times.sample_s > 0.0 && g.times.decode_s > 0.0);
+}
+
+#[test]
+fn output_follows_the_input_frame() {
+    // The model sees the same model-frame points, so moving and scaling the input moves and
+    // scales the output by the same transform.
+    let m = models();
+    let generator = m.generator();
+    let a = generator
+        .generate(
+            &[sphere_points(1.0, Vec3::ZERO)],
+            &options(3),
+            &mut |_, _| true,
+        )
+        .unwrap();
+    let offset = Vec3::new(10.0, -4.0, 2.5);
+    let b = generator
+        .generate(&[sphere_points(3.0, offset)], &options(3), &mut |_, _| true)
+        .unwrap();
+    assert!(!a[0].mesh.faces.is_empty());
+    assert_eq!(a[0].mesh.faces, b[0].mesh.faces);
+    assert_eq!(a[0].mesh.positions.len(), b[0].mesh.positions.len());
+    for (p, q) in a[0].mesh.positions.iter().zip(&b[0].mesh.positions) {
+        assert!((*p * 3.0 + offset - *q).length() < 1e-3, "{p} vs {q}");
+    }
+}
+
+#[test]
+fn seeds_reproduce_and_batches_match_single_runs() {
+    let m = models();
+    let generator = m.generator();
+    let inputs = [sphere_points(1.0, Vec3::ZERO), sphere_points(2.0, Vec3::X)];
+    let single = generator
+        .generate(&inputs[..1], &options(3), &mut |_, _| true)
+        .unwrap();
+    let again = generator
+        .generate(&inputs[..1], &options(3), &mut |_, _| true)
+        .unwrap();
+    assert_eq!(single[0].mesh.positions, again[0].mesh.positions);
+    assert_eq!(single[0].mesh.faces, again[0].mesh.faces);
+    let batch = generator
+        .generate(&inputs, &options(3), &mut |_, _| true)
+        .unwrap();
+    assert_eq!(batch.len(), 2);
+    assert_eq!(batch[0].mesh.faces, single[0].mesh.faces);
+    for (p, q) in batch[0]
+        .mesh
+        .positions
+        .iter()
+        .zip(&single[0].mesh.positions)
+    {
+        assert!((*p - *q).length() < 1e-4);
+    }
+    let other_seed = GenerateOptions {
+        seed: 5,
+        ..options(3)
+    };
+    let different = generator
+        .generate(&inputs[..1], &other_seed, &mut |_, _| true)
+        .unwrap();
+    assert_ne!(different[0].mesh.positions, single[0].mesh.positions);
+}
+
+#[test]
+fn progress_is_reported_and_cancellation_stops_between_steps() {
+    let m = models();
+    let generator = m.generator();
+    let mut seen = Vec::new();
+    generator
+        .generate(
+            &[sphere_points(1.0, Vec3::ZERO)],
+            &options(5),
+            &mut |i, n| {
+                seen.push((i, n));
+                true
+            },
+        )
+        .unwrap();
+    assert_eq!(seen, (1..=5).map(|i| (i, 5)).collect::<Vec<_>>());
+    let err = generator
+        .generate(
+            &[sphere_points(1.0, Vec3::ZERO)],
+            &options(5),
+            &mut |i, _| i < 2,
+        )
+        .unwrap_err();
+    assert!(
+        matches!(err, GenerateError::Sampling(SampleError::Cancelled(2, 5))),
+        "{err}"
+    );
+}
+
+#[test]
+fn bad_inputs_are_typed_errors() {
+    let m = models();
+    let generator = m.generator();
+    let run = |points: Vec<Vec3>, opts: GenerateOptions| {
+        generator
+            .generate(&[points], &opts, &mut |_, _| true)
+            .unwrap_err()
+    };
+    assert!(matches!(run(vec![], options(2)), GenerateError::NoPoints));
+    assert!(matches!(
+        run(vec![Vec3::ONE, Vec3::new(f32::NAN, 0.0, 0.0)], options(2)),
+        GenerateError::NonFinite(1)
+    ));
+    assert!(matches!(
+        run(vec![Vec3::ONE; 10], options(2)),
+        GenerateError::Degenerate
+    ));
+    let points = sphere_points(1.0, Vec3::ZERO);
+    for asked in [0, 513] {
+        let opts = GenerateOptions {
+            vertices: Some(asked),
+            ..options(2)
+        };
+        let err = run(points.clone(), opts);
+        assert!(
+            matches!(err, GenerateError::Budget { max: 512, .. }),
+            "{err}"
+        );
+    }
+    let no_steps = GenerateOptions {
+        steps: 0,
+        ..options(2)
+    };
+    assert!(matches!(
+        run(points, no_steps),
+        GenerateError::Sampling(SampleError::NoSteps)
+    ));
+}
+
+#[test]
+fn default_budget_comes_from_the_rule_within_the_vae_size() {
+    let m = models();
+    let opts = GenerateOptions {
+        vertices: None,
+        ..options(2)
+    };
+    let out = m
+        .generator()
+        .generate(&[sphere_points(1.0, Vec3::ZERO)], &opts, &mut |_, _| true)
+        .unwrap();
+    let (model_points, _) = to_model_frame(&sphere_points(1.0, Vec3::ZERO)).unwrap();
+    let features = meshflow::budget::shape_features(&model_points, 0);
+    assert_eq!(out[0].features, features);
+    assert_eq!(
+        out[0].vertex_budget,
+        meshflow::budget::DEFAULT_RULE.budget(&features, 512)
+    );
+}
+
+#[test]
+fn meshes_are_surface_sampled_and_point_clouds_kept() {
+    let sphere = icosphere(1);
+    let sampled = input_points(&sphere, 3).unwrap();
+    assert_eq!(sampled.len(), meshflow::generate::CONDITION_POINTS);
+    let cloud = meshflow::Mesh::from_points(sphere.positions.clone());
+    assert_eq!(input_points(&cloud, 3).unwrap(), sphere.positions);
+    let big = meshflow::Mesh::from_points(sampled.iter().chain(&sampled).copied().collect());
+    assert_eq!(
+        input_points(&big, 3).unwrap().len(),
+        meshflow::generate::CONDITION_POINTS
+    );
+}
