@@ -160,17 +160,76 @@ struct Conditioned {
     positions: Vec<[f32; 3]>,
 }
 
+/// A batch after conditioning: the sampler's inputs, and what extraction needs afterwards.
+pub struct Prepared {
+    conditioned: Vec<Conditioned>,
+    /// `[B, L, D]` seeded noise at t = 1 (row `k` from `seed + k`).
+    pub noise: Tensor<3>,
+    /// `[B, 1]` vertex-count conditions.
+    pub cond: Tensor<2>,
+    pub rope: Rope,
+    pub times: StageTimes,
+}
+
+/// The decoder's outputs read back to the host, row-major `[B, N, C]` each.
+pub struct DecodedHost {
+    pub mask_logits: Vec<f32>,
+    pub positions: Vec<f32>,
+    pub normals: Vec<f32>,
+    pub edge_embeddings: Vec<f32>,
+}
+
 impl Generator<'_> {
     /// Generates one mesh per input point set (input frame, e.g. from [`input_points`]), in
     /// one batch: every input gets the same steps and options, and its own seeded noise
     /// (`seed + index`). `on_step(step, steps)` runs after every Euler step; returning false
-    /// cancels.
+    /// cancels. Reads back synchronously (native); the browser drives the same stages
+    /// ([`Self::prepare`], [`euler_step`](crate::model::sampler::euler_step),
+    /// [`Self::decode`], [`Self::extract`]) with asynchronous readback.
     pub fn generate(
         &self,
         inputs: &[Vec<Vec3>],
         opts: &GenerateOptions,
         on_step: &mut dyn FnMut(usize, usize) -> bool,
     ) -> Result<Vec<Generated>, GenerateError> {
+        if inputs.is_empty() {
+            return Ok(Vec::new());
+        }
+        let mut prepared = self.prepare(inputs, opts)?;
+        let started = Instant::now();
+        let latents = sample(
+            self.dit,
+            prepared.noise.clone(),
+            prepared.cond.clone(),
+            &prepared.rope,
+            opts.steps,
+            opts.schedule,
+            &mut |i, n, _| on_step(i, n),
+        )?;
+        // Reading the latents back ends the sampling stage on asynchronous backends.
+        let latents = Tensor::<3>::from_data(read(latents)?, self.device);
+        prepared.times.sample_s = started.elapsed().as_secs_f64();
+
+        let started = Instant::now();
+        let out = self.decode(latents);
+        let host = DecodedHost {
+            mask_logits: read_vec(out.mask_logits)?,
+            positions: read_vec(out.positions)?,
+            normals: read_vec(out.normals)?,
+            edge_embeddings: read_vec(out.edge_embeddings)?,
+        };
+        prepared.times.decode_s = started.elapsed().as_secs_f64();
+        self.extract(prepared, &host, &opts.extract)
+    }
+
+    /// Stage 1: checks the models fit together, conditions every input (model frame, budget,
+    /// RoPE positions) and draws the noise. No input at all is [`GenerateError::NoPoints`].
+    pub fn prepare(
+        &self,
+        inputs: &[Vec<Vec3>],
+        opts: &GenerateOptions,
+    ) -> Result<Prepared, GenerateError> {
+        let started = Instant::now();
         let (vae, dit) = (self.vae_config, self.dit_config);
         let (l, d) = (vae.num_latents, vae.latent_dim);
         if (l, d) != (dit.num_latents, dit.latent_dim) {
@@ -179,10 +238,12 @@ impl Generator<'_> {
                 dit: (dit.num_latents, dit.latent_dim),
             });
         }
-        if inputs.is_empty() {
-            return Ok(Vec::new());
+        if opts.steps == 0 {
+            return Err(SampleError::NoSteps.into());
         }
-        let started = Instant::now();
+        if inputs.is_empty() {
+            return Err(GenerateError::NoPoints);
+        }
         let conditioned = inputs
             .iter()
             .enumerate()
@@ -193,71 +254,64 @@ impl Generator<'_> {
             .iter()
             .flat_map(|c| c.positions.iter().copied())
             .collect();
-        let rope = Rope::new(&positions, b, dit.width / dit.num_heads, self.device);
         let cond: Vec<f32> = conditioned
             .iter()
             .map(|c| vertex_condition(c.budget, l))
             .collect();
-        let cond = Tensor::from_data(TensorData::new(cond, [b, 1]), self.device);
         let noise: Vec<Tensor<3>> = (0..b)
             .map(|k| normal_noise(&mut Rng::new(opts.seed + k as u64), [1, l, d], self.device))
             .collect();
-        let noise = Tensor::cat(noise, 0);
-        let mut times = StageTimes {
-            condition_s: started.elapsed().as_secs_f64(),
-            ..Default::default()
+        Ok(Prepared {
+            conditioned,
+            noise: Tensor::cat(noise, 0),
+            cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
+            rope: Rope::new(&positions, b, dit.width / dit.num_heads, self.device),
+            times: StageTimes {
+                condition_s: started.elapsed().as_secs_f64(),
+                ..Default::default()
+            },
+        })
+    }
+
+    /// Stage 3: de-normalises sampled latents with the VAE manifest's mean/std and decodes.
+    pub fn decode(&self, latents: Tensor<3>) -> crate::model::Decoded {
+        let d = self.vae_config.latent_dim;
+        let channel = |v: &[f32]| {
+            Tensor::<1>::from_data(TensorData::new(v.to_vec(), [d]), self.device).reshape([1, 1, d])
         };
+        let latents = latents * channel(self.latent_std) + channel(self.latent_mean);
+        self.vae.decode(latents, &mut Trace::default())
+    }
 
+    /// Stage 4: Algorithm 1 on each decoded row, mapped back to its input's frame.
+    pub fn extract(
+        &self,
+        prepared: Prepared,
+        host: &DecodedHost,
+        extract: &ExtractOptions,
+    ) -> Result<Vec<Generated>, GenerateError> {
         let started = Instant::now();
-        let latents = sample(
-            self.dit,
-            noise,
-            cond,
-            &rope,
-            opts.steps,
-            opts.schedule,
-            &mut |i, n, _| on_step(i, n),
-        )?;
-        let mean =
-            Tensor::<1>::from_data(TensorData::new(self.latent_mean.to_vec(), [d]), self.device);
-        let std =
-            Tensor::<1>::from_data(TensorData::new(self.latent_std.to_vec(), [d]), self.device);
-        let latents = latents * std.reshape([1, 1, d]) + mean.reshape([1, 1, d]);
-        // Reading the latents back ends the sampling stage on asynchronous backends.
-        let latents = Tensor::<3>::from_data(read(latents)?, self.device).reshape([b, l, d]);
-        times.sample_s = started.elapsed().as_secs_f64();
-
-        let started = Instant::now();
-        let out = self.vae.decode(latents, &mut Trace::default());
-        let logits = read_vec(out.mask_logits)?;
-        let positions = read_vec(out.positions)?;
-        let normals = read_vec(out.normals)?;
-        let embeddings = read_vec(out.edge_embeddings)?;
-        times.decode_s = started.elapsed().as_secs_f64();
-
-        let started = Instant::now();
-        let (n, e) = (vae.num_vertices, vae.edge_dim);
-        let mut meshes = Vec::with_capacity(b);
-        for (k, c) in conditioned.iter().enumerate() {
+        let (n, e) = (self.vae_config.num_vertices, self.vae_config.edge_dim);
+        let mut meshes = Vec::with_capacity(prepared.conditioned.len());
+        for (k, c) in prepared.conditioned.iter().enumerate() {
             let rows = k * n..(k + 1) * n;
-            let pos = vec3s(&positions[rows.start * 3..rows.end * 3]);
-            let nrm = vec3s(&normals[rows.start * 3..rows.end * 3]);
+            let pos = vec3s(&host.positions[rows.start * 3..rows.end * 3]);
+            let nrm = vec3s(&host.normals[rows.start * 3..rows.end * 3]);
             let decoded = DecodedVertices {
-                mask_logits: &logits[rows.clone()],
+                mask_logits: &host.mask_logits[rows.clone()],
                 positions: &pos,
                 normals: &nrm,
-                embeddings: &embeddings[rows.start * e..rows.end * e],
+                embeddings: &host.edge_embeddings[rows.start * e..rows.end * e],
                 dim: e,
             };
-            let (mesh, report) = extract_from_decoded(&decoded, &opts.extract)?;
-            let mesh = c.to_input.apply_mesh(&mesh);
-            meshes.push((mesh, report));
+            let (mesh, report) = extract_from_decoded(&decoded, extract)?;
+            meshes.push((c.to_input.apply_mesh(&mesh), report));
         }
+        let mut times = prepared.times;
         times.extract_s = started.elapsed().as_secs_f64();
-
         Ok(meshes
             .into_iter()
-            .zip(conditioned)
+            .zip(prepared.conditioned)
             .map(|((mesh, extract), c)| Generated {
                 topology: TopologyReport::of(&mesh),
                 mesh,

@@ -22,6 +22,9 @@ pub enum BenchCommand {
         #[arg(long, default_value_t = 1.0)]
         seconds: f64,
     },
+    /// The whole generation (condition, sample, decode, extract) with the shipped models on
+    /// a point cloud, repeated; median per-stage times.
+    Generate(crate::generate::BenchGenerateArgs),
 }
 
 /// The reference implementation's times on one CPU thread (DESIGN.md section 4), in ms.
@@ -107,7 +110,10 @@ fn cpu_name() -> String {
 }
 
 pub fn run(which: BenchCommand) -> Result<()> {
-    let BenchCommand::Extract { output, seconds } = which;
+    let (output, seconds) = match which {
+        BenchCommand::Extract { output, seconds } => (output, seconds),
+        BenchCommand::Generate(args) => return crate::generate::bench_generate(args),
+    };
     let budget = Duration::from_secs_f64(seconds);
     let mut report = Report {
         method: "wall-clock median over >= 5 runs and >= `seconds` per case after one warm-up run; \

@@ -624,3 +624,83 @@ pub fn eval_budget(args: EvalBudgetArgs) -> Result<()> {
     }
     Ok(())
 }
+
+#[derive(Args)]
+pub struct BenchGenerateArgs {
+    /// The point cloud or mesh to generate from.
+    #[arg(long, default_value = "tests/fixtures/points/stone_lantern_2048.ply")]
+    input: PathBuf,
+    /// Timed runs (after one warm-up run).
+    #[arg(long, default_value_t = 5)]
+    runs: usize,
+    #[arg(long)]
+    vertices: Option<usize>,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+    /// Where to write the JSON.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+#[derive(Serialize)]
+struct BenchGenerateReport {
+    input: String,
+    backend: String,
+    steps: usize,
+    runs: usize,
+    vertex_budget: usize,
+    faces: usize,
+    load_s: f64,
+    /// Medians over the timed runs.
+    median: StageTimes,
+    median_total_s: f64,
+    machine: String,
+}
+
+/// Times the whole generation on one input; the first run (shader compilation on wgpu,
+/// allocator warm-up) is not counted.
+pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
+    let started = Instant::now();
+    let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let models = load_models(&args.sampling.weights, &dev)?;
+    let load_s = started.elapsed().as_secs_f64();
+    let points = input_points(&read_input(&args.input)?, args.sampling.seed)
+        .map_err(|e| BadInput(e.to_string()))?;
+    let generator = models.generator(&dev);
+    let opts = args.sampling.options(args.vertices);
+    let mut runs = Vec::new();
+    for _ in 0..=args.runs.max(1) {
+        let g = generator
+            .generate(std::slice::from_ref(&points), &opts, &mut |_, _| true)
+            .map_err(|e| BadInput(e.to_string()))?;
+        runs.push(g.into_iter().next().expect("one input, one output"));
+    }
+    let last = runs.remove(0);
+    let median = |f: &dyn Fn(&StageTimes) -> f64| {
+        let mut v: Vec<f64> = runs.iter().map(|g| f(&g.times)).collect();
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let report = BenchGenerateReport {
+        input: args.input.display().to_string(),
+        backend: BackendKind::from(args.sampling.backend).name().into(),
+        steps: opts.steps,
+        runs: runs.len(),
+        vertex_budget: last.vertex_budget,
+        faces: last.mesh.faces.len(),
+        load_s,
+        median: StageTimes {
+            condition_s: median(&|t| t.condition_s),
+            sample_s: median(&|t| t.sample_s),
+            decode_s: median(&|t| t.decode_s),
+            extract_s: median(&|t| t.extract_s),
+        },
+        median_total_s: median(&|t| t.condition_s + t.sample_s + t.decode_s + t.extract_s),
+        machine: crate::train::machine_description(),
+    };
+    let json = serde_json::to_string_pretty(&report)?;
+    println!("{json}");
+    fs::write(&args.output, json)
+        .with_context(|| format!("cannot write {}", args.output.display()))?;
+    Ok(())
+}

@@ -193,7 +193,7 @@ pub struct WeightsManifest {
     pub final_validation: Option<serde_json::Value>,
 }
 
-fn machine_description() -> String {
+pub fn machine_description() -> String {
     let cpu = fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|t| {

@@ -33,17 +33,35 @@ pub fn sample(
         return Err(SampleError::NoSteps);
     }
     let times = step_times(steps, mode);
-    let batch = noise.dims()[0];
     let mut x = noise;
     for i in 0..steps {
-        let t = vec![times[i]; batch];
-        let v = dit.forward(x.clone(), &t, cond.clone(), rope, &mut Trace::default());
-        x = x - v * (times[i] - times[i + 1]) as f64;
+        x = euler_step(dit, x, times[i], times[i + 1], cond.clone(), rope);
         if !on_step(i + 1, steps, &x) {
             return Err(SampleError::Cancelled(i + 1, steps));
         }
     }
     Ok(x)
+}
+
+/// One Euler step from model time `t` to `t_next` (`t > t_next`): `x - (t - t_next) v(x, t)`.
+/// Drivers that must wait between steps (the browser) loop over [`step_times`] with it.
+pub fn euler_step(
+    dit: &Dit,
+    x: Tensor<3>,
+    t: f32,
+    t_next: f32,
+    cond: Tensor<2>,
+    rope: &Rope,
+) -> Tensor<3> {
+    let batch = x.dims()[0];
+    let v = dit.forward(
+        x.clone(),
+        &vec![t; batch],
+        cond,
+        rope,
+        &mut Trace::default(),
+    );
+    x - v * (t - t_next) as f64
 }
 
 /// Standard normal noise of `shape`, drawn from `rng` in row-major order (the same values on
