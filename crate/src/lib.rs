@@ -24,6 +24,7 @@
 //! - [`extract`]: spacetime edge threshold and Algorithm 1 (edges -> faces -> repaired mesh).
 //! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
 //! - [`generate`]: the inference path, point cloud -> DiT sampling -> VAE decode -> mesh.
+//! - [`shipped`]: the shipped weights' manifests, and loading them from bytes with checks.
 //! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
 //! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
@@ -49,6 +50,7 @@ pub mod primitives;
 pub mod reconstruct;
 pub mod rng;
 pub mod sample;
+pub mod shipped;
 pub mod tokens;
 pub mod topology;
 #[cfg(feature = "train")]

@@ -17,17 +17,17 @@ use meshflow::generate::{
     CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, input_points,
 };
 use meshflow::metrics::{CompareOptions, Comparison, compare_meshes};
-use meshflow::model::dit::{Dit, is_image_path};
+use meshflow::model::MeshVae;
+use meshflow::model::dit::Dit;
 use meshflow::model::schedule::ScheduleMode;
-use meshflow::model::{MeshVae, TensorMap, load_module};
 use meshflow::reconstruct::reconstruct_batch;
 use meshflow::sample::sample_surface;
 use serde::Serialize;
 
 use crate::BadInput;
-use crate::train::{Backend, WeightsManifest, load_weights, read_checked};
-use crate::train_dit::DitManifest;
+use crate::train::{Backend, load_weights, read_shipped};
 use crate::vae_eval::{DEFAULT_WEIGHTS, SurfaceSummary, eval_meshes};
+use meshflow::shipped::{DitManifest, VaeManifest};
 
 /// The sampler's end point, as a command-line value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -104,7 +104,7 @@ pub struct GenerateArgs {
 /// The shipped DiT and VAE, loaded.
 pub struct Models {
     pub vae: MeshVae,
-    pub vae_manifest: WeightsManifest,
+    pub vae_manifest: VaeManifest,
     pub dit: Dit,
     pub dit_manifest: DitManifest,
 }
@@ -127,21 +127,10 @@ impl Models {
 /// against the VAE it was trained on.
 pub fn load_models(dir: &Path, device: &Device) -> Result<Models> {
     let (vae, vae_manifest) = load_weights(dir, device)?;
-    let (dit_manifest, bytes): (DitManifest, _) = read_checked(dir, "dit")?;
-    if dit_manifest.vae_sha256 != vae_manifest.sha256 {
-        bail!(BadInput(format!(
-            "{}: the DiT was trained on latents of another VAE (sha256 {}, not {})",
-            dir.display(),
-            dit_manifest.vae_sha256,
-            vae_manifest.sha256
-        )));
-    }
-    dit_manifest
-        .model
-        .validate()
-        .map_err(|e| BadInput(format!("DiT config: {e}")))?;
-    let map = TensorMap::from_safetensors(&bytes, "")?;
-    let dit = load_module(Dit::new(&dit_manifest.model, device), &map, &is_image_path)?;
+    let (manifest, weights) = read_shipped(dir, "dit")?;
+    let (dit, dit_manifest) =
+        meshflow::shipped::load_dit(&manifest, &weights, &vae_manifest, device)
+            .map_err(|e| BadInput(format!("{}: {e}", dir.display())))?;
     Ok(Models {
         vae,
         vae_manifest,

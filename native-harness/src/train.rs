@@ -12,12 +12,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::Mesh;
 use meshflow::dataset::Split;
 use meshflow::device::{BackendKind, device};
-use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
+use meshflow::model::{MeshVae, Trace, VaeConfig, load_module};
+use meshflow::shipped::{VaeManifest, sha256_hex};
 use meshflow::tokens::build_tokens;
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae};
 use serde::{Deserialize, Serialize};
-use sha2::{Digest, Sha256};
 
 use crate::BadInput;
 use crate::data::{load_meshes, read_manifest};
@@ -247,13 +247,6 @@ pub fn latent_statistics(
     (mean, std)
 }
 
-pub fn sha256_hex(bytes: &[u8]) -> String {
-    Sha256::digest(bytes)
-        .iter()
-        .map(|b| format!("{b:02x}"))
-        .collect()
-}
-
 pub fn run(which: TrainCommand) -> Result<()> {
     match which {
         TrainCommand::Vae(args) => train_vae_command(args),
@@ -380,44 +373,24 @@ fn write_weights(dir: &Path, bytes: &[u8], manifest: &WeightsManifest) -> Result
     Ok(())
 }
 
-/// Reads `dir/NAME.manifest.json` and `dir/NAME.safetensors`, refusing weights whose sha256
-/// is not the manifest's.
-pub fn read_checked<M: serde::de::DeserializeOwned>(
-    dir: &Path,
-    name: &str,
-) -> Result<(M, Vec<u8>)> {
-    let manifest_path = dir.join(format!("{name}.manifest.json"));
-    let manifest: serde_json::Value = serde_json::from_slice(
-        &fs::read(&manifest_path)
-            .with_context(|| format!("cannot read {}", manifest_path.display()))?,
-    )
-    .with_context(|| format!("{} is not JSON", manifest_path.display()))?;
-    let weights_path = dir.join(format!("{name}.safetensors"));
-    let bytes = fs::read(&weights_path)
-        .with_context(|| format!("cannot read {}", weights_path.display()))?;
-    if manifest["sha256"].as_str() != Some(sha256_hex(&bytes).as_str()) {
-        bail!(BadInput(format!(
-            "{}: sha256 does not match the manifest",
-            weights_path.display()
-        )));
-    }
-    let manifest = serde_json::from_value(manifest)
-        .with_context(|| format!("{} is not a {name} manifest", manifest_path.display()))?;
-    Ok((manifest, bytes))
+/// Reads `dir/NAME.manifest.json` and `dir/NAME.safetensors`.
+pub fn read_shipped(dir: &Path, name: &str) -> Result<(Vec<u8>, Vec<u8>)> {
+    let read = |file: String| {
+        let path = dir.join(file);
+        fs::read(&path).with_context(|| format!("cannot read {}", path.display()))
+    };
+    Ok((
+        read(format!("{name}.manifest.json"))?,
+        read(format!("{name}.safetensors"))?,
+    ))
 }
 
-/// Loads shipped weights: the safetensors (checked against the manifest's sha256) and the
-/// manifest, whose model config sizes the network.
+/// Loads the VAE of a weights folder (sha256, configuration and shapes checked).
 pub fn load_weights(
     dir: &Path,
     device: &meshflow::burn::tensor::Device,
-) -> Result<(MeshVae, WeightsManifest)> {
-    let (manifest, bytes): (WeightsManifest, _) = read_checked(dir, "vae")?;
-    manifest
-        .model
-        .validate()
-        .map_err(|e| BadInput(format!("weights config: {e}")))?;
-    let map = TensorMap::from_safetensors(&bytes, "")?;
-    let vae = load_module(MeshVae::new(&manifest.model, device), &map, &|_| false)?;
-    Ok((vae, manifest))
+) -> Result<(MeshVae, VaeManifest)> {
+    let (manifest, weights) = read_shipped(dir, "vae")?;
+    meshflow::shipped::load_vae(&manifest, &weights, device)
+        .map_err(|e| BadInput(format!("{}: {e}", dir.display())).into())
 }

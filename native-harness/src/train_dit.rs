@@ -12,11 +12,12 @@ use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::device::{BackendKind, device};
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::BadInput;
-use crate::train::{Backend, BarObserver, load_split, load_weights, sha256_hex};
+use crate::train::{Backend, BarObserver, load_split, load_weights};
 use meshflow::dataset::Split;
+use meshflow::shipped::sha256_hex;
 
 #[derive(Args)]
 pub struct TrainDitArgs {
@@ -39,9 +40,10 @@ pub struct TrainDitArgs {
     backend: Backend,
 }
 
-/// What ships beside `dit.safetensors`.
-#[derive(Serialize, Deserialize)]
-pub struct DitManifest {
+/// What ships beside `dit.safetensors` (inference reads the fields of
+/// [`meshflow::shipped::DitManifest`]).
+#[derive(Serialize)]
+struct DitManifest {
     pub model: DitConfig,
     pub sha256: String,
     pub parameters: usize,

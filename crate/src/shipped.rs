@@ -1,0 +1,131 @@
+//! The shipped weights (`weights/`): `vae.safetensors` and `dit.safetensors`, each beside a
+//! manifest that records its configuration, sha256 and provenance. This module reads the
+//! fields inference needs and loads the networks from bytes, so the CLI and the browser check
+//! the same things: the sha256 of each file, that the DiT was trained on this VAE's latents,
+//! and that names and shapes match the configurations.
+
+use burn::tensor::Device;
+use serde::{Deserialize, Serialize};
+use sha2::{Digest, Sha256};
+
+use crate::model::dit::{Dit, DitConfig, is_image_path};
+use crate::model::{MeshVae, TensorMap, VaeConfig, WeightsError, load_module};
+
+/// Why shipped weights were refused.
+#[derive(Debug, thiserror::Error)]
+pub enum ShippedError {
+    #[error("{what} manifest: {source}")]
+    Manifest {
+        what: &'static str,
+        source: serde_json::Error,
+    },
+    #[error("{what} weights: sha256 {actual} does not match the manifest's {expected}")]
+    Checksum {
+        what: &'static str,
+        expected: String,
+        actual: String,
+    },
+    #[error("{what} configuration: {reason}")]
+    Config { what: &'static str, reason: String },
+    #[error("the DiT was trained on latents of another VAE (sha256 {dit_vae}, not {vae})")]
+    VaeMismatch { dit_vae: String, vae: String },
+    #[error("{what} weights: {source}")]
+    Weights {
+        what: &'static str,
+        source: WeightsError,
+    },
+}
+
+/// What inference reads from `vae.manifest.json` (other fields are provenance).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct VaeManifest {
+    pub model: VaeConfig,
+    pub sha256: String,
+    /// Per latent channel, over the posterior means of the training meshes.
+    pub latent_mean: Vec<f32>,
+    pub latent_std: Vec<f32>,
+}
+
+/// What inference reads from `dit.manifest.json`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DitManifest {
+    pub model: DitConfig,
+    pub sha256: String,
+    /// The VAE whose latents the DiT was trained on.
+    pub vae_sha256: String,
+}
+
+/// Lower-case hex sha256 of `bytes`.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    Sha256::digest(bytes)
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
+fn check_sha(what: &'static str, bytes: &[u8], expected: &str) -> Result<(), ShippedError> {
+    let actual = sha256_hex(bytes);
+    if actual != expected {
+        return Err(ShippedError::Checksum {
+            what,
+            expected: expected.into(),
+            actual,
+        });
+    }
+    Ok(())
+}
+
+/// Parses a VAE manifest and loads `weights` (safetensors) into a VAE on `device`.
+pub fn load_vae(
+    manifest: &[u8],
+    weights: &[u8],
+    device: &Device,
+) -> Result<(MeshVae, VaeManifest), ShippedError> {
+    let what = "VAE";
+    let m: VaeManifest = serde_json::from_slice(manifest)
+        .map_err(|source| ShippedError::Manifest { what, source })?;
+    check_sha(what, weights, &m.sha256)?;
+    m.model
+        .validate()
+        .map_err(|reason| ShippedError::Config { what, reason })?;
+    let d = m.model.latent_dim;
+    if m.latent_mean.len() != d || m.latent_std.len() != d {
+        return Err(ShippedError::Config {
+            what,
+            reason: format!("latent mean/std must have {d} channels"),
+        });
+    }
+    let map = TensorMap::from_safetensors(weights, "")
+        .map_err(|source| ShippedError::Weights { what, source })?;
+    let vae = load_module(MeshVae::new(&m.model, device), &map, &|_| false)
+        .map_err(|source| ShippedError::Weights { what, source })?;
+    Ok((vae, m))
+}
+
+/// Parses a DiT manifest and loads `weights` into a DiT on `device`, refusing a DiT trained on
+/// another VAE than `vae`. The reference's image-conditioning tensors are ignored.
+pub fn load_dit(
+    manifest: &[u8],
+    weights: &[u8],
+    vae: &VaeManifest,
+    device: &Device,
+) -> Result<(Dit, DitManifest), ShippedError> {
+    let what = "DiT";
+    let m: DitManifest = serde_json::from_slice(manifest)
+        .map_err(|source| ShippedError::Manifest { what, source })?;
+    check_sha(what, weights, &m.sha256)?;
+    if m.vae_sha256 != vae.sha256 {
+        return Err(ShippedError::VaeMismatch {
+            dit_vae: m.vae_sha256,
+            vae: vae.sha256.clone(),
+        });
+    }
+    m.model
+        .validate()
+        .map_err(|reason| ShippedError::Config { what, reason })?;
+    let map = TensorMap::from_safetensors(weights, "")
+        .map_err(|source| ShippedError::Weights { what, source })?;
+    let dit = load_module(Dit::new(&m.model, device), &map, &is_image_path)
+        .map_err(|source| ShippedError::Weights { what, source })?;
+    Ok((dit, m))
+}
