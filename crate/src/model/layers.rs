@@ -7,9 +7,7 @@
 //! [`crate::model::weights::reference_component`].
 
 use burn::module::Module;
-use burn::nn::{
-    LayerNorm, LayerNormConfig, Linear, LinearConfig, LinearLayout, RmsNorm, RmsNormConfig,
-};
+use burn::nn::{LayerNorm, LayerNormConfig, Linear, LinearConfig, RmsNorm, RmsNormConfig};
 use burn::tensor::activation::gelu;
 use burn::tensor::module::attention;
 use burn::tensor::{Device, Tensor};
@@ -17,13 +15,10 @@ use burn::tensor::{Device, Tensor};
 /// LayerNorm epsilon of the reference blocks.
 pub const LAYER_NORM_EPS: f64 = 1e-5;
 
-/// A Linear layer whose weight is stored `[out, in]` like PyTorch's, so reference weights load
-/// and save without a manual transpose.
+/// A Linear layer (weight `[in, out]`; `weights.rs` transposes to and from PyTorch's
+/// `[out, in]` on the host).
 pub fn linear(d_in: usize, d_out: usize, bias: bool, device: &Device) -> Linear {
-    LinearConfig::new(d_in, d_out)
-        .with_bias(bias)
-        .with_layout(LinearLayout::Col)
-        .init(device)
+    LinearConfig::new(d_in, d_out).with_bias(bias).init(device)
 }
 
 /// LayerNorm with weight and bias (eps 1e-5).

@@ -2,8 +2,10 @@
 //!
 //! A module's parameter path (Burn's field names, e.g. `encoder.blocks.0.attn1.to_out.weight`)
 //! becomes the reference name by [`reference_component`] applied to each component
-//! (`to_out` -> `to_out.0`, ...). Linear weights are `[out, in]` in both (the layers use Burn's
-//! column layout), so no tensor is transposed by hand. Loading checks every name and shape and
+//! (`to_out` -> `to_out.0`, ...). Linear weights are `[in, out]` in Burn and `[out, in]` in the
+//! reference's files; they are transposed on the host here, never on the device (Burn's
+//! column layout transposes through a blocking device sync, which the browser cannot do).
+//! Loading checks every name and shape without initialising the module's random weights, and
 //! refuses a file that does not match the module exactly.
 
 use std::collections::{BTreeMap, BTreeSet};
@@ -150,8 +152,45 @@ pub fn reference_name(path: &[String]) -> String {
         .join(".")
 }
 
+/// `values` (row-major `[rows, cols]`) transposed to `[cols, rows]`.
+fn transpose(values: &[f32], rows: usize, cols: usize) -> Vec<f32> {
+    let mut out = vec![0.0; values.len()];
+    for r in 0..rows {
+        for c in 0..cols {
+            out[c * rows + r] = values[r * cols + c];
+        }
+    }
+    out
+}
+
+/// The module path of a parameter, and whether it is a Linear weight (stored transposed).
+#[derive(Default)]
+struct ModulePath {
+    names: Vec<String>,
+    containers: Vec<String>,
+}
+
+impl ModulePath {
+    fn enter(&mut self, name: &str, container: &str) {
+        self.names.push(name.to_string());
+        self.containers.push(container.to_string());
+    }
+
+    fn exit(&mut self) {
+        self.names.pop();
+        self.containers.pop();
+    }
+
+    /// Burn names a field's container `Struct:<type>`: a Linear's `weight` field.
+    fn is_linear_weight(&self, rank: usize) -> bool {
+        rank == 2
+            && self.names.last().is_some_and(|l| l == "weight")
+            && self.containers.last().is_some_and(|c| c == "Struct:Linear")
+    }
+}
+
 struct Loader<'a> {
-    path: Vec<String>,
+    path: ModulePath,
     map: &'a TensorMap,
     used: BTreeSet<String>,
     missing: Vec<String>,
@@ -159,23 +198,29 @@ struct Loader<'a> {
 }
 
 impl ModuleMapper for Loader<'_> {
-    fn enter_module(&mut self, name: &str, _container: &str) {
-        self.path.push(name.to_string());
+    fn enter_module(&mut self, name: &str, container: &str) {
+        self.path.enter(name, container);
     }
 
     fn exit_module(&mut self, _name: &str, _container: &str) {
-        self.path.pop();
+        self.path.exit();
     }
 
     fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
-        let name = reference_name(&self.path);
-        let Some((shape, _)) = self.map.tensors.get(&name) else {
+        let name = reference_name(&self.path.names);
+        let Some((shape, values)) = self.map.tensors.get(&name) else {
             self.missing.push(name);
             return param;
         };
         self.used.insert(name.clone());
-        // The shape the reference stores: what saving this parameter would write.
-        let expected = param.transform_for_save().val().dims().to_vec();
+        // The shape the reference stores; read without initialising the parameter.
+        let dims = param.lazy_shape().to_vec();
+        let linear = self.path.is_linear_weight(D);
+        let expected: Vec<usize> = if linear {
+            dims.iter().rev().copied().collect()
+        } else {
+            dims.clone()
+        };
         if *shape != expected {
             self.error.get_or_insert(WeightsError::Shape {
                 name,
@@ -184,19 +229,14 @@ impl ModuleMapper for Loader<'_> {
             });
             return param;
         }
-        let device = param.lazy_device();
-        let tensor = self.map.tensor::<D>(&name, &device).expect("rank checked");
+        let values = if linear {
+            transpose(values, shape[0], shape[1])
+        } else {
+            values.clone()
+        };
+        let tensor = Tensor::<D>::from_data(TensorData::new(values, dims), &param.lazy_device());
         let id = param.id;
-        // The load mapper may leave a strided view (the Linear transpose); a copy in standard
-        // layout makes later matmuls round exactly as they do on freshly computed weights, so a
-        // resumed run matches an uninterrupted one bit for bit.
-        param.transform_for_load(tensor, id).map(|t| {
-            let require_grad = t.is_require_grad();
-            t.detach()
-                .mul_scalar(1.0)
-                .detach()
-                .set_require_grad(require_grad)
-        })
+        param.transform_for_load(tensor, id)
     }
 }
 
@@ -208,7 +248,7 @@ pub fn load_module<M: Module>(
     ignore: &dyn Fn(&str) -> bool,
 ) -> Result<M, WeightsError> {
     let mut loader = Loader {
-        path: Vec::new(),
+        path: ModulePath::default(),
         map,
         used: BTreeSet::new(),
         missing: Vec::new(),
@@ -234,38 +274,42 @@ pub fn load_module<M: Module>(
 }
 
 struct Collector {
-    path: Vec<String>,
+    path: ModulePath,
     map: TensorMap,
 }
 
 impl ModuleVisitor for Collector {
-    fn enter_module(&mut self, name: &str, _container: &str) {
-        self.path.push(name.to_string());
+    fn enter_module(&mut self, name: &str, container: &str) {
+        self.path.enter(name, container);
     }
 
     fn exit_module(&mut self, _name: &str, _container: &str) {
-        self.path.pop();
+        self.path.exit();
     }
 
     fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
         let tensor = param.transform_for_save().val();
-        let shape = tensor.dims().to_vec();
-        let values = tensor
+        let mut shape = tensor.dims().to_vec();
+        let mut values = tensor
             .try_into_data()
             .expect("reading back a parameter")
             .convert::<f32>()
             .try_into_vec::<f32>()
             .expect("f32 data");
+        if self.path.is_linear_weight(D) {
+            values = transpose(&values, shape[0], shape[1]);
+            shape.reverse();
+        }
         self.map
             .tensors
-            .insert(reference_name(&self.path), (shape, values));
+            .insert(reference_name(&self.path.names), (shape, values));
     }
 }
 
 /// All parameters of `module` under their reference names.
 pub fn module_tensors<M: Module>(module: &M) -> TensorMap {
     let mut collector = Collector {
-        path: Vec::new(),
+        path: ModulePath::default(),
         map: TensorMap::default(),
     };
     module.visit(&mut collector);
@@ -288,9 +332,8 @@ impl ModuleMapper for SeededInit {
     }
 
     fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
-        let value = param.val();
-        let dims = value.dims();
-        let device = value.device();
+        let dims = param.lazy_shape().to_vec();
+        let device = param.lazy_device();
         let n = dims.iter().product::<usize>();
         let last = self.path.last().map(String::as_str).unwrap_or("");
         let values: Vec<f32> = match (last, D) {
@@ -313,11 +356,11 @@ impl ModuleMapper for SeededInit {
                     .collect()
             }
         };
-        param.map(|old| {
-            let require_grad = old.is_require_grad();
-            Tensor::<D>::from_data(TensorData::new(values, dims), &device)
-                .set_require_grad(require_grad)
-        })
+        let id = param.id;
+        param.transform_for_load(
+            Tensor::<D>::from_data(TensorData::new(values, dims), &device),
+            id,
+        )
     }
 }
 
