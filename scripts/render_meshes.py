@@ -4,7 +4,8 @@
     python3 scripts/render_meshes.py OUT.png A.obj B.obj [C.obj ...] [--cols 2]
 
 Each mesh (OBJ, as written by `meshflow convert` / `reconstruct -o x.obj`) is drawn flat-shaded
-with its wireframe, from the same 3/4 view, scaled to fit its panel. Needs numpy and matplotlib.
+with its wireframe, from the same 3/4 view, scaled to fit its panel; an OBJ without faces (a
+point cloud) is drawn as its points. Needs numpy and matplotlib.
 """
 
 import argparse
@@ -55,10 +56,19 @@ def main():
         ax.set_axis_off()
         title = args.titles[i] if args.titles and i < len(args.titles) else path.split("/")[-1]
         ax.set_title(f"{title}\n{len(v)} v, {len(f)} f", fontsize=8)
-        if len(f) == 0:
-            continue
         # Y-up model frame: show Y as the vertical axis.
-        v = v[:, [0, 2, 1]]
+        v = v[:, [0, 2, 1]] if len(v) else v
+        if len(f) == 0:
+            # A point cloud (or an empty mesh): draw the points.
+            if len(v):
+                ax.scatter(v[:, 0], v[:, 1], v[:, 2], s=0.5, c="#4a6fa5", depthshade=False)
+                lo, hi = v.min(axis=0), v.max(axis=0)
+                c, r = (lo + hi) / 2, (hi - lo).max() / 2
+                ax.set_xlim(c[0] - r, c[0] + r)
+                ax.set_ylim(c[1] - r, c[1] + r)
+                ax.set_zlim(c[2] - r, c[2] + r)
+                ax.view_init(elev=20, azim=-60)
+            continue
         tri = v[f]
         normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
         length = np.linalg.norm(normal, axis=1, keepdims=True)

@@ -34,8 +34,9 @@ pub fn device(kind: BackendKind) -> Result<Device, String> {
 }
 
 /// The burn-wgpu device on Vulkan. Burn's runtime can be initialised once per process, so the
-/// device is created once and cloned afterwards.
-#[cfg(feature = "wgpu")]
+/// device is created once and cloned afterwards. (The browser opens WebGPU asynchronously
+/// instead, in `web.rs`.)
+#[cfg(all(feature = "wgpu", not(target_family = "wasm")))]
 pub fn vulkan() -> Result<Device, String> {
     use burn::tensor::wgpu::WgpuBackend;
     use std::sync::OnceLock;
@@ -55,8 +56,9 @@ pub fn vulkan() -> Result<Device, String> {
         .clone()
 }
 
-/// Without the `wgpu` feature there is no GPU backend.
-#[cfg(not(feature = "wgpu"))]
+/// Without the `wgpu` feature (or on wasm, where WebGPU opens asynchronously) there is no
+/// Vulkan device.
+#[cfg(any(not(feature = "wgpu"), target_family = "wasm"))]
 pub fn vulkan() -> Result<Device, String> {
-    Err("this build has no wgpu backend (enable the `wgpu` feature)".into())
+    Err("this build has no native wgpu backend (enable the `wgpu` feature)".into())
 }

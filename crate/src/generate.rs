@@ -56,8 +56,9 @@ pub enum GenerateError {
     Readback(String),
 }
 
-/// What the caller chooses.
+/// What the caller chooses (missing JSON fields take the defaults).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct GenerateOptions {
     /// Vertices to ask for; `None` uses the default rule on the input's shape.
     pub vertices: Option<usize>,

@@ -28,6 +28,7 @@
 //! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
 //! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
+//! - `web` (wasm32, feature `web`): the browser API, wasm-bindgen.
 //! - [`workloads`]: the inputs the extraction benchmarks time.
 
 pub mod augment;
@@ -56,6 +57,8 @@ pub mod topology;
 #[cfg(feature = "train")]
 pub mod train;
 pub mod voxel;
+#[cfg(all(target_arch = "wasm32", feature = "web"))]
+pub mod web;
 pub mod workloads;
 
 /// The Burn version the models are written against, for callers that build tensors.

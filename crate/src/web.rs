@@ -1,0 +1,303 @@
+//! The browser API (wasm-bindgen, feature `web` on wasm32): load the shipped weights from
+//! bytes, generate a mesh from points on WebGPU (or Burn's CPU backend inside wasm, said
+//! plainly through [`MeshFlow::backend`]), and write GLB / OBJ. Every failure is a JS
+//! exception with a message; a panic hook reports the unexpected in the console.
+//!
+//! Generation drives the same stages as the CLI ([`crate::generate::Generator`]) but reads
+//! back asynchronously, and waits for the GPU after every Euler step, so the page can show
+//! real progress and cancel between steps.
+
+use burn::tensor::{Device, Tensor, TensorData};
+use glam::Vec3;
+use wasm_bindgen::prelude::*;
+use web_time::Instant;
+
+use crate::generate::{DecodedHost, GenerateOptions, Generated, Generator, input_points};
+use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
+use crate::model::MeshVae;
+use crate::model::dit::Dit;
+use crate::model::sampler::euler_step;
+use crate::model::schedule::step_times;
+use crate::shipped::{DitManifest, VaeManifest, load_dit, load_vae};
+
+#[wasm_bindgen(start)]
+fn start() {
+    console_error_panic_hook::set_once();
+}
+
+fn js_error(e: impl std::fmt::Display) -> JsError {
+    JsError::new(&e.to_string())
+}
+
+/// The loaded models and the device they run on.
+#[wasm_bindgen]
+pub struct MeshFlow {
+    vae: MeshVae,
+    vae_manifest: VaeManifest,
+    dit: Dit,
+    dit_manifest: DitManifest,
+    device: Device,
+    backend: String,
+}
+
+/// The WebGPU device, or why there is none.
+async fn webgpu() -> Result<Device, String> {
+    Device::wgpu_options()
+        .init_async()
+        .await
+        .map_err(|e| format!("no WebGPU adapter: {e}"))
+}
+
+#[wasm_bindgen]
+impl MeshFlow {
+    /// Loads the VAE and DiT from their manifests (JSON text) and safetensors bytes, checking
+    /// sha256, that the DiT belongs to this VAE, and every tensor's name and shape.
+    /// `backend`: `"webgpu"` (fail without an adapter), `"cpu"`, or `"auto"` (WebGPU when an
+    /// adapter exists, else the CPU; read [`Self::backend`] to say which).
+    pub async fn load(
+        vae_manifest: String,
+        vae_weights: Vec<u8>,
+        dit_manifest: String,
+        dit_weights: Vec<u8>,
+        backend: String,
+    ) -> Result<MeshFlow, JsError> {
+        let (device, backend) = match backend.as_str() {
+            "webgpu" => (webgpu().await.map_err(js_error)?, "webgpu"),
+            "cpu" => (Device::flex(), "cpu"),
+            "auto" => match webgpu().await {
+                Ok(d) => (d, "webgpu"),
+                Err(_) => (Device::flex(), "cpu"),
+            },
+            other => {
+                return Err(js_error(format!(
+                    "unknown backend {other:?}: expected \"webgpu\", \"cpu\" or \"auto\""
+                )));
+            }
+        };
+        let (vae, vae_manifest) =
+            load_vae(vae_manifest.as_bytes(), &vae_weights, &device).map_err(js_error)?;
+        let (dit, dit_manifest) = load_dit(
+            dit_manifest.as_bytes(),
+            &dit_weights,
+            &vae_manifest,
+            &device,
+        )
+        .map_err(js_error)?;
+        Ok(MeshFlow {
+            vae,
+            vae_manifest,
+            dit,
+            dit_manifest,
+            device,
+            backend: backend.into(),
+        })
+    }
+
+    /// `"webgpu"` or `"cpu"`.
+    #[wasm_bindgen(getter)]
+    pub fn backend(&self) -> String {
+        self.backend.clone()
+    }
+
+    /// The most vertices one generation can make (the VAE's N).
+    #[wasm_bindgen(getter, js_name = maxVertices)]
+    pub fn max_vertices(&self) -> usize {
+        self.vae_manifest.model.num_vertices
+    }
+
+    fn generator(&self) -> Generator<'_> {
+        Generator::new(
+            &self.vae,
+            &self.vae_manifest.model,
+            &self.vae_manifest.latent_mean,
+            &self.vae_manifest.latent_std,
+            &self.dit,
+            &self.dit_manifest.model,
+            &self.device,
+        )
+    }
+
+    /// Generates a mesh from `points` (x, y, z, ... in any frame). `options` is JSON:
+    /// `{"vertices": 300, "steps": 28, "seed": 0, "schedule": "to-zero"}`, each optional.
+    /// `on_step(step, steps)` is called after every step once the GPU has finished it;
+    /// returning `false` cancels (the promise rejects with a "cancelled" message).
+    pub async fn generate(
+        &self,
+        points: Vec<f32>,
+        options: String,
+        on_step: Option<js_sys::Function>,
+    ) -> Result<GeneratedMesh, JsError> {
+        if points.len() % 3 != 0 {
+            return Err(js_error(format!(
+                "points must be x, y, z triples; got {} numbers",
+                points.len()
+            )));
+        }
+        let opts: GenerateOptions = if options.trim().is_empty() {
+            GenerateOptions::default()
+        } else {
+            serde_json::from_str(&options).map_err(|e| js_error(format!("options: {e}")))?
+        };
+        let points: Vec<Vec3> = points.chunks_exact(3).map(Vec3::from_slice).collect();
+        let generator = self.generator();
+        let mut prepared = generator.prepare(&[points], &opts).map_err(js_error)?;
+
+        let started = Instant::now();
+        let times = step_times(opts.steps, opts.schedule);
+        let mut x = prepared.noise.clone();
+        for i in 0..opts.steps {
+            x = euler_step(
+                &self.dit,
+                x,
+                times[i],
+                times[i + 1],
+                prepared.cond.clone(),
+                &prepared.rope,
+            );
+            // Wait for this step on the device (one value back), then let the event loop run.
+            read(x.clone().slice([0..1, 0..1, 0..1])).await?;
+            yield_to_event_loop().await;
+            if let Some(f) = &on_step {
+                let go = f
+                    .call2(&JsValue::NULL, &(i + 1).into(), &opts.steps.into())
+                    .map_err(|e| js_error(format!("on_step threw: {e:?}")))?;
+                if go == JsValue::FALSE {
+                    return Err(js_error(format!(
+                        "sampling was cancelled after {} of {} steps",
+                        i + 1,
+                        opts.steps
+                    )));
+                }
+            }
+        }
+        prepared.times.sample_s = started.elapsed().as_secs_f64();
+
+        let started = Instant::now();
+        let out = generator.decode(x);
+        let host = DecodedHost {
+            mask_logits: read(out.mask_logits).await?,
+            positions: read(out.positions).await?,
+            normals: read(out.normals).await?,
+            edge_embeddings: read(out.edge_embeddings).await?,
+        };
+        prepared.times.decode_s = started.elapsed().as_secs_f64();
+        let mut out = generator
+            .extract(prepared, &host, &opts.extract)
+            .map_err(js_error)?;
+        Ok(GeneratedMesh {
+            generated: out.remove(0),
+        })
+    }
+}
+
+async fn read(t: Tensor<3>) -> Result<Vec<f32>, JsError> {
+    let data: TensorData = t
+        .into_data_async()
+        .await
+        .map_err(|e| js_error(format!("reading back from the device failed: {e:?}")))?;
+    data.convert::<f32>()
+        .try_into_vec::<f32>()
+        .map_err(|e| js_error(format!("reading back from the device failed: {e:?}")))
+}
+
+/// Resolves on a later macrotask (`setTimeout(0)`), so input and messages are handled
+/// between sampling steps even on the CPU backend.
+async fn yield_to_event_loop() {
+    let promise = js_sys::Promise::new(&mut |resolve, _| {
+        let global = js_sys::global();
+        if let Ok(set_timeout) = js_sys::Reflect::get(&global, &"setTimeout".into())
+            && let Ok(set_timeout) = set_timeout.dyn_into::<js_sys::Function>()
+            && set_timeout.call2(&global, &resolve, &0.into()).is_ok()
+        {
+            return;
+        }
+        let _ = resolve.call0(&JsValue::NULL);
+    });
+    let _ = wasm_bindgen_futures::JsFuture::from(promise).await;
+}
+
+/// One generated mesh (in the input's frame) and its report.
+#[wasm_bindgen]
+pub struct GeneratedMesh {
+    generated: Generated,
+}
+
+#[wasm_bindgen]
+impl GeneratedMesh {
+    /// x, y, z per vertex.
+    #[wasm_bindgen(getter)]
+    pub fn positions(&self) -> Vec<f32> {
+        self.generated
+            .mesh
+            .positions
+            .iter()
+            .flat_map(|p| p.to_array())
+            .collect()
+    }
+
+    /// Area-weighted unit vertex normals, x, y, z per vertex.
+    #[wasm_bindgen(getter)]
+    pub fn normals(&self) -> Vec<f32> {
+        let m = &self.generated.mesh;
+        crate::normals::vertex_normals(&m.positions, &m.faces)
+            .iter()
+            .flat_map(|n| n.to_array())
+            .collect()
+    }
+
+    /// Three vertex indices per triangle.
+    #[wasm_bindgen(getter)]
+    pub fn indices(&self) -> Vec<u32> {
+        self.generated
+            .mesh
+            .faces
+            .iter()
+            .flatten()
+            .copied()
+            .collect()
+    }
+
+    /// JSON: `vertexBudget`, `times` (seconds per stage), `topology`, `extract`.
+    #[wasm_bindgen(getter)]
+    pub fn report(&self) -> String {
+        let g = &self.generated;
+        serde_json::json!({
+            "vertexBudget": g.vertex_budget,
+            "features": g.features,
+            "times": g.times,
+            "topology": g.topology,
+            "extract": g.extract,
+        })
+        .to_string()
+    }
+
+    /// The mesh as binary glTF.
+    #[wasm_bindgen(js_name = toGlb)]
+    pub fn to_glb(&self) -> Vec<u8> {
+        write_glb(&self.generated.mesh)
+    }
+
+    /// The mesh as Wavefront OBJ text.
+    #[wasm_bindgen(js_name = toObj)]
+    pub fn to_obj(&self) -> String {
+        write_obj(&self.generated.mesh)
+    }
+}
+
+/// Reads a point cloud or mesh file (PLY, OBJ, STL, GLB/glTF, XYZ and the CLI's other
+/// formats; the format comes from `file_name`'s extension, else from the bytes) and returns
+/// the points to condition on: a mesh's surface samples, or a point cloud's points.
+#[wasm_bindgen(js_name = readPoints)]
+pub fn read_points(bytes: &[u8], file_name: &str) -> Result<Vec<f32>, JsError> {
+    let format = Format::from_path(std::path::Path::new(file_name))
+        .or_else(|| Format::sniff(bytes))
+        .ok_or_else(|| {
+            js_error(format!(
+                "{file_name}: not a supported mesh or point-cloud format"
+            ))
+        })?;
+    let mesh = read_bytes(bytes, format, &Limits::default())
+        .map_err(|e| js_error(format!("{file_name}: {e}")))?;
+    let points = input_points(&mesh, 0).map_err(|e| js_error(format!("{file_name}: {e}")))?;
+    Ok(points.iter().flat_map(|p| p.to_array()).collect())
+}

@@ -1,0 +1,50 @@
+#!/usr/bin/env bash
+# Build the browser module: `bash scripts/build-web.sh`.
+#
+# 1. compiles the crate's wasm-bindgen API (feature `web`) for wasm32 as a cdylib in the
+#    `wasm-release` profile (opt-level z, fat LTO);
+# 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
+#    with `--target web` into web/pkg/;
+# 3. shrinks it with npm binaryen@132's `wasm-opt -Oz` (Debian's binaryen 108 corrupts this
+#    module; DESIGN.md section 6);
+# 4. prints the sizes, raw and gzipped.
+set -euo pipefail
+
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+cd "$ROOT"
+export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}"
+OUT="${MESHFLOW_WEB_PKG:-web/pkg}"
+
+log() { printf '[build-web.sh] %s\n' "$*"; }
+
+rustup target list --installed 2>/dev/null | grep -qx wasm32-unknown-unknown ||
+    rustup target add wasm32-unknown-unknown
+
+# wasm-bindgen's CLI must match the library version exactly.
+want=$(awk '/^name = "wasm-bindgen"$/ { getline; gsub(/[^0-9.]/, ""); print; exit }' Cargo.lock)
+have=$(wasm-bindgen --version 2>/dev/null | awk '{ print $2 }' || true)
+if [[ "$have" != "$want" ]]; then
+    log "installing wasm-bindgen-cli $want (found: ${have:-none})"
+    cargo install wasm-bindgen-cli --version "$want"
+fi
+
+[[ -x node_modules/.bin/wasm-opt ]] || npm ci --no-audit --no-fund
+
+log "compiling the wasm module (profile wasm-release)"
+cargo rustc -p meshflow --profile wasm-release --target wasm32-unknown-unknown \
+    --features web --crate-type cdylib
+WASM="$CARGO_TARGET_DIR/wasm32-unknown-unknown/wasm-release/meshflow.wasm"
+
+log "wasm-bindgen --target web -> $OUT"
+mkdir -p "$OUT"
+wasm-bindgen --target web --out-dir "$OUT" --out-name meshflow "$WASM"
+
+log "wasm-opt -Oz"
+node_modules/.bin/wasm-opt -Oz --enable-bulk-memory --enable-nontrapping-float-to-int \
+    --enable-sign-ext --enable-mutable-globals --enable-reference-types \
+    "$OUT/meshflow_bg.wasm" -o "$OUT/meshflow_bg.opt.wasm"
+mv "$OUT/meshflow_bg.opt.wasm" "$OUT/meshflow_bg.wasm"
+
+raw=$(stat -c %s "$OUT/meshflow_bg.wasm")
+gz=$(gzip -9 -c "$OUT/meshflow_bg.wasm" | wc -c)
+log "wasm: $raw bytes, $gz gzipped ($(awk -v b="$gz" 'BEGIN { printf "%.2f", b / 1048576 }') MiB)"

@@ -1,0 +1,162 @@
+// A small software viewer on a 2D canvas: flat-shaded triangles (painter's order), the
+// wireframe over them (topology is what this product is about) and the input points;
+// orbit, zoom, pan with mouse, touch and keyboard; fit-to-view.
+export class Viewer {
+  constructor(canvas) {
+    this.canvas = canvas;
+    this.ctx = canvas.getContext('2d');
+    this.mesh = null;
+    this.points = null;
+    this.yaw = 0.7;
+    this.pitch = 0.45;
+    this.zoom = 1;
+    this.pan = [0, 0];
+    this.#bind();
+    this.draw();
+  }
+
+  setPoints(points) {
+    this.points = points;
+    this.fit();
+  }
+
+  setMesh(positions, indices) {
+    this.mesh = positions ? { positions, indices } : null;
+    this.fit();
+  }
+
+  fit() {
+    const src = this.mesh?.positions ?? this.points;
+    if (!src || src.length < 3) return this.draw();
+    const lo = [Infinity, Infinity, Infinity];
+    const hi = [-Infinity, -Infinity, -Infinity];
+    for (let i = 0; i < src.length; i += 3) {
+      for (let k = 0; k < 3; k++) {
+        lo[k] = Math.min(lo[k], src[i + k]);
+        hi[k] = Math.max(hi[k], src[i + k]);
+      }
+    }
+    this.center = lo.map((l, k) => (l + hi[k]) / 2);
+    this.radius = Math.max(1e-9, Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2);
+    this.zoom = 1;
+    this.pan = [0, 0];
+    this.draw();
+  }
+
+  #project(x, y, z) {
+    const [cx, cy, cz] = this.center ?? [0, 0, 0];
+    x -= cx; y -= cy; z -= cz;
+    const cyw = Math.cos(this.yaw), syw = Math.sin(this.yaw);
+    const cp = Math.cos(this.pitch), sp = Math.sin(this.pitch);
+    const x1 = cyw * x + syw * z;
+    const z1 = -syw * x + cyw * z;
+    const y2 = cp * y - sp * z1;
+    const z2 = sp * y + cp * z1;
+    const { width: w, height: h } = this.canvas;
+    const s = (0.45 * Math.min(w, h) * this.zoom) / (this.radius ?? 1);
+    return [w / 2 + this.pan[0] + x1 * s, h / 2 + this.pan[1] - y2 * s, z2];
+  }
+
+  draw() {
+    const { ctx, canvas } = this;
+    ctx.fillStyle = '#ffffff';
+    ctx.fillRect(0, 0, canvas.width, canvas.height);
+    if (this.points && !this.mesh) {
+      ctx.fillStyle = '#4a6fa5';
+      for (let i = 0; i < this.points.length; i += 3) {
+        const [x, y] = this.#project(this.points[i], this.points[i + 1], this.points[i + 2]);
+        ctx.fillRect(x - 1, y - 1, 2, 2);
+      }
+    }
+    if (!this.mesh) return;
+    const p = this.mesh.positions;
+    const idx = this.mesh.indices;
+    const screen = [];
+    for (let i = 0; i < p.length; i += 3) screen.push(this.#project(p[i], p[i + 1], p[i + 2]));
+    const tris = [];
+    for (let t = 0; t < idx.length; t += 3) {
+      const a = screen[idx[t]], b = screen[idx[t + 1]], c = screen[idx[t + 2]];
+      // Shade by the view-space normal's facing (two-sided).
+      const ux = b[0] - a[0], uy = b[1] - a[1], uz = b[2] - a[2];
+      const vx = c[0] - a[0], vy = c[1] - a[1], vz = c[2] - a[2];
+      const nx = uy * vz - uz * vy, ny = uz * vx - ux * vz, nz = ux * vy - uy * vx;
+      const len = Math.hypot(nx, ny, nz) || 1;
+      const light = 0.35 + 0.65 * Math.abs(nz / len);
+      tris.push([(a[2] + b[2] + c[2]) / 3, a, b, c, light]);
+    }
+    tris.sort((s, t) => s[0] - t[0]);
+    ctx.lineWidth = 1;
+    ctx.strokeStyle = 'rgba(20, 30, 45, 0.8)';
+    for (const [, a, b, c, light] of tris) {
+      const g = Math.round(120 + 110 * light);
+      ctx.fillStyle = `rgb(${Math.round(g * 0.55)}, ${Math.round(g * 0.75)}, ${g})`;
+      ctx.beginPath();
+      ctx.moveTo(a[0], a[1]);
+      ctx.lineTo(b[0], b[1]);
+      ctx.lineTo(c[0], c[1]);
+      ctx.closePath();
+      ctx.fill();
+      ctx.stroke();
+    }
+  }
+
+  #bind() {
+    const c = this.canvas;
+    c.tabIndex = 0;
+    const pointers = new Map();
+    let last = null;
+    c.addEventListener('pointerdown', (e) => {
+      c.setPointerCapture(e.pointerId);
+      pointers.set(e.pointerId, [e.clientX, e.clientY]);
+      last = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 };
+    });
+    c.addEventListener('pointermove', (e) => {
+      if (!pointers.has(e.pointerId)) return;
+      const prev = pointers.get(e.pointerId);
+      pointers.set(e.pointerId, [e.clientX, e.clientY]);
+      if (pointers.size === 2) {
+        const [p, q] = [...pointers.values()];
+        const before = Math.hypot(prev[0] - (p === prev ? q[0] : p[0]), prev[1] - (p === prev ? q[1] : p[1]));
+        const after = Math.hypot(p[0] - q[0], p[1] - q[1]);
+        if (before > 0) this.zoom *= after / before;
+      } else if (last) {
+        const dx = e.clientX - last.x, dy = e.clientY - last.y;
+        if (last.pan) {
+          this.pan[0] += dx;
+          this.pan[1] += dy;
+        } else {
+          this.yaw += dx * 0.01;
+          this.pitch = Math.max(-1.5, Math.min(1.5, this.pitch + dy * 0.01));
+        }
+        last.x = e.clientX;
+        last.y = e.clientY;
+      }
+      this.draw();
+    });
+    const end = (e) => {
+      pointers.delete(e.pointerId);
+      if (pointers.size === 0) last = null;
+    };
+    c.addEventListener('pointerup', end);
+    c.addEventListener('pointercancel', end);
+    c.addEventListener('contextmenu', (e) => e.preventDefault());
+    c.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      this.zoom *= Math.exp(-e.deltaY * 0.001);
+      this.draw();
+    }, { passive: false });
+    c.addEventListener('keydown', (e) => {
+      const step = 0.1;
+      if (e.key === 'ArrowLeft') this.yaw -= step;
+      else if (e.key === 'ArrowRight') this.yaw += step;
+      else if (e.key === 'ArrowUp') this.pitch = Math.max(-1.5, this.pitch - step);
+      else if (e.key === 'ArrowDown') this.pitch = Math.min(1.5, this.pitch + step);
+      else if (e.key === '+' || e.key === '=') this.zoom *= 1.1;
+      else if (e.key === '-') this.zoom /= 1.1;
+      else if (e.key === 'f' || e.key === 'F') return this.fit();
+      else return;
+      e.preventDefault();
+      this.draw();
+    });
+  }
+}
