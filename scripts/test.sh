@@ -11,8 +11,12 @@
 #                                           benches compiled and run once)
 #   cargo test --release --workspace --doc (--all-targets leaves doctests out)
 #   cargo clippy --workspace --all-targets -- -D warnings
+#   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
+#   node tests/e2e/browser.test.mjs        (the page and the npm package in
+#                                           headless Chromium over SwiftShader)
 # Each step prints its time; the last line is a plain
-# "summary: N passed, N failed, N skipped" tally of the cargo test results.
+# "summary: N passed, N failed, N skipped" tally of the cargo and browser
+# test results.
 #
 # Builds go to ${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target} so that
 # repeated runs, and scripts/demo.sh, reuse one build. Tests run in the release
@@ -33,7 +37,8 @@ fi
 # Debian packages the tests need. Add to this list rather than installing
 # things by hand: CI machines start bare.
 # mesa-vulkan-drivers: lavapipe, the Vulkan device the wgpu golden tests run on.
-APT_PACKAGES=(mesa-vulkan-drivers)
+# chromium: the browser tests (WebGPU through its bundled SwiftShader).
+APT_PACKAGES=(mesa-vulkan-drivers chromium)
 
 LOG_DIR="$(mktemp -d "${TMPDIR:-/tmp}/meshflow-test.XXXXXX")"
 trap 'rm -rf "$LOG_DIR"' EXIT
@@ -119,6 +124,10 @@ run_doctests() { cargo test --release --workspace --doc 2>&1 | tee "$LOG_DIR/doc
 
 check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 
+build_web() { bash scripts/build-web.sh; }
+
+run_browser_tests() { node tests/e2e/browser.test.mjs 2>&1 | tee "$LOG_DIR/browser.log"; }
+
 # ---- driver ----------------------------------------------------------------
 
 # Sum the "test result: ok. 3 passed; 0 failed; 1 ignored; ..." lines.
@@ -132,6 +141,7 @@ tally() {
                     if ($(i+1) ~ /^ignored/) s += $i
                 }
              }
+             /^browser: [0-9]+ passed, [0-9]+ failed/ { p += $2; f += $4 }
              END { printf "%d passed, %d failed, %d skipped\n", p, f, s }'
 }
 
@@ -184,6 +194,8 @@ main() {
     run_step test run_tests
     run_step doctest run_doctests
     run_step clippy check_clippy
+    run_step web build_web
+    run_step browser run_browser_tests
     print_summary
 }
 

@@ -353,7 +353,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
 }
 
 /// A short identity of the shard build: the sha256 of its manifest.
-fn data_version(dir: &Path) -> String {
+pub fn data_version(dir: &Path) -> String {
     match fs::read(dir.join("manifest.jsonl")) {
         Ok(bytes) => format!("manifest.jsonl sha256 {}", sha256_hex(&bytes)),
         Err(_) => "unknown".into(),

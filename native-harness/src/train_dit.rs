@@ -51,9 +51,12 @@ struct DitManifest {
     pub training: DitTrainConfig,
     /// The VAE whose latents the DiT was trained on.
     pub vae_sha256: String,
+    /// The shard build's identity (sha256 of its manifest).
+    pub data: String,
     pub train_examples: usize,
     pub final_validation_loss: Option<f64>,
     pub wall_time_s: f64,
+    pub machine: String,
     pub backend: String,
 }
 
@@ -133,9 +136,11 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         training: cfg.clone(),
         vae_sha256: vae_manifest.sha256.clone(),
+        data: crate::train::data_version(&data),
         train_examples: train.len(),
         final_validation_loss: last_val,
         wall_time_s: started.elapsed().as_secs_f64(),
+        machine: crate::train::machine_description(),
         backend: BackendKind::from(args.backend).name().into(),
     };
     fs::write(args.out.join("dit.safetensors"), &bytes)?;
