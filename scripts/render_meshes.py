@@ -30,6 +30,16 @@ def read_obj(path):
     return np.array(verts, dtype=float).reshape(-1, 3), np.array(faces, dtype=int).reshape(-1, 3)
 
 
+def fit_view(ax, v):
+    """Equal-aspect limits around the points and the shared 3/4 view."""
+    lo, hi = v.min(axis=0), v.max(axis=0)
+    c, r = (lo + hi) / 2, (hi - lo).max() / 2
+    ax.set_xlim(c[0] - r, c[0] + r)
+    ax.set_ylim(c[1] - r, c[1] + r)
+    ax.set_zlim(c[2] - r, c[2] + r)
+    ax.view_init(elev=20, azim=-60)
+
+
 def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("out")
@@ -62,12 +72,7 @@ def main():
             # A point cloud (or an empty mesh): draw the points.
             if len(v):
                 ax.scatter(v[:, 0], v[:, 1], v[:, 2], s=0.5, c="#4a6fa5", depthshade=False)
-                lo, hi = v.min(axis=0), v.max(axis=0)
-                c, r = (lo + hi) / 2, (hi - lo).max() / 2
-                ax.set_xlim(c[0] - r, c[0] + r)
-                ax.set_ylim(c[1] - r, c[1] + r)
-                ax.set_zlim(c[2] - r, c[2] + r)
-                ax.view_init(elev=20, azim=-60)
+                fit_view(ax, v)
             continue
         tri = v[f]
         normal = np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0])
@@ -77,12 +82,7 @@ def main():
         colors = np.stack([shade * 0.55, shade * 0.7, shade * 0.9, np.ones_like(shade)], axis=1)
         poly = Poly3DCollection(tri, facecolors=colors, edgecolors=(0.1, 0.1, 0.1, 0.5), linewidths=0.3)
         ax.add_collection3d(poly)
-        lo, hi = v.min(axis=0), v.max(axis=0)
-        c, r = (lo + hi) / 2, (hi - lo).max() / 2
-        ax.set_xlim(c[0] - r, c[0] + r)
-        ax.set_ylim(c[1] - r, c[1] + r)
-        ax.set_zlim(c[2] - r, c[2] + r)
-        ax.view_init(elev=20, azim=-60)
+        fit_view(ax, v)
     fig.tight_layout()
     fig.savefig(args.out)
     return 0

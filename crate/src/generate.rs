@@ -379,6 +379,27 @@ impl<'a> Generator<'a> {
     }
 }
 
+impl<'a> Generator<'a> {
+    /// A generator over shipped models and their manifests ([`crate::shipped`]).
+    pub fn from_shipped(
+        vae: &'a MeshVae,
+        vae_manifest: &'a crate::shipped::VaeManifest,
+        dit: &'a Dit,
+        dit_manifest: &'a crate::shipped::DitManifest,
+        device: &'a Device,
+    ) -> Self {
+        Self::new(
+            vae,
+            &vae_manifest.model,
+            &vae_manifest.latent_mean,
+            &vae_manifest.latent_std,
+            dit,
+            &dit_manifest.model,
+            device,
+        )
+    }
+}
+
 fn read(t: Tensor<3>) -> Result<TensorData, GenerateError> {
     t.try_into_data()
         .map_err(|e| GenerateError::Readback(format!("{e:?}")))

@@ -106,13 +106,11 @@ impl MeshFlow {
     }
 
     fn generator(&self) -> Generator<'_> {
-        Generator::new(
+        Generator::from_shipped(
             &self.vae,
-            &self.vae_manifest.model,
-            &self.vae_manifest.latent_mean,
-            &self.vae_manifest.latent_std,
+            &self.vae_manifest,
             &self.dit,
-            &self.dit_manifest.model,
+            &self.dit_manifest,
             &self.device,
         )
     }

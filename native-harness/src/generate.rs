@@ -111,13 +111,11 @@ pub struct Models {
 
 impl Models {
     pub fn generator<'a>(&'a self, device: &'a Device) -> Generator<'a> {
-        Generator::new(
+        Generator::from_shipped(
             &self.vae,
-            &self.vae_manifest.model,
-            &self.vae_manifest.latent_mean,
-            &self.vae_manifest.latent_std,
+            &self.vae_manifest,
             &self.dit,
-            &self.dit_manifest.model,
+            &self.dit_manifest,
             device,
         )
     }
