@@ -159,6 +159,11 @@ pub fn default_cache() -> PathBuf {
         .join(".cache/meshflow/data")
 }
 
+/// The shard build a command reads: `dir`, or the default build's `CACHE/shards`.
+pub fn shards_dir(dir: Option<PathBuf>) -> PathBuf {
+    dir.unwrap_or_else(|| default_cache().join("shards"))
+}
+
 // ---------------------------------------------------------------------------------------
 // fetch
 

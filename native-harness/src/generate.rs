@@ -26,7 +26,7 @@ use serde::Serialize;
 
 use crate::BadInput;
 use crate::train::{Backend, load_weights, read_shipped};
-use crate::vae_eval::{DEFAULT_WEIGHTS, SurfaceSummary, eval_meshes};
+use crate::vae_eval::{DEFAULT_WEIGHTS, EvalSetArgs, SurfaceSummary, eval_meshes};
 use meshflow::shipped::{DitManifest, VaeManifest};
 
 /// The sampler's end point, as a command-line value.
@@ -284,18 +284,8 @@ pub enum BudgetSource {
 
 #[derive(Args)]
 pub struct EvalGenerateArgs {
-    /// Split of the shard build to evaluate (train, val or test).
-    #[arg(long, default_value = "test")]
-    split: String,
-    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
-    #[arg(long)]
-    data: Option<PathBuf>,
-    /// Evaluate every mesh file in this folder instead.
-    #[arg(long)]
-    input: Option<PathBuf>,
-    /// At most this many meshes (0 = all).
-    #[arg(long, default_value_t = 0)]
-    limit: usize,
+    #[command(flatten)]
+    set: EvalSetArgs,
     #[arg(long, value_enum, default_value = "rule")]
     budget: BudgetSource,
     /// Meshes per sampling batch.
@@ -365,13 +355,7 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
     let models = load_models(&args.sampling.weights, &dev)?;
     let vcfg = &models.vae_manifest.model;
-    let (meshes, mut skipped, source) = eval_meshes(
-        args.input.as_deref(),
-        &args.split,
-        args.data.clone(),
-        vcfg.num_vertices,
-        args.limit,
-    )?;
+    let (meshes, mut skipped, source) = args.set.meshes(vcfg.num_vertices)?;
     if let Some(dir) = &args.meshes {
         fs::create_dir_all(dir)?;
     }

@@ -262,21 +262,15 @@ fn main() -> ExitCode {
                 jobs,
                 limit_per_source,
             ),
-            DataCommand::Stats { dir, output } => data::stats(
-                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
-                output.as_deref(),
-            ),
+            DataCommand::Stats { dir, output } => {
+                data::stats(&data::shards_dir(dir), output.as_deref())
+            }
             DataCommand::Show {
                 id,
                 output,
                 dir,
                 source_frame,
-            } => data::show(
-                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
-                &id,
-                &output,
-                source_frame,
-            ),
+            } => data::show(&data::shards_dir(dir), &id, &output, source_frame),
             DataCommand::Subset {
                 dir,
                 output,
@@ -285,7 +279,7 @@ fn main() -> ExitCode {
                 test,
                 max_vertices,
             } => data::subset_command(
-                &dir.unwrap_or_else(|| data::default_cache().join("shards")),
+                &data::shards_dir(dir),
                 &output,
                 &data::SubsetOptions {
                     train,

@@ -271,9 +271,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     cfg.model
         .validate()
         .map_err(|e| BadInput(format!("configuration: {e}")))?;
-    let data = args
-        .data
-        .unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let data = crate::data::shards_dir(args.data);
     let fits = |m: &Mesh| m.positions.len() <= cfg.model.num_vertices;
     let mut train: Vec<Mesh> = load_split(&data, Split::Train)?
         .into_iter()

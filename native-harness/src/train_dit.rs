@@ -91,9 +91,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
     cfg.model
         .validate()
         .map_err(|e| BadInput(format!("configuration: {e}")))?;
-    let data = args
-        .data
-        .unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let data = crate::data::shards_dir(args.data);
     let encode = |split| -> Result<_> {
         let meshes: Vec<_> = load_split(&data, split)?
             .into_iter()

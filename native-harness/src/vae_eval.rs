@@ -35,10 +35,9 @@ pub struct ReconstructArgs {
     json: bool,
 }
 
+/// Which meshes an evaluation runs on (shared by `eval vae` and `eval generate`).
 #[derive(Args)]
-pub struct EvalVaeArgs {
-    #[arg(long, default_value = DEFAULT_WEIGHTS)]
-    weights: PathBuf,
+pub struct EvalSetArgs {
     /// Split of the shard build to evaluate (train, val or test).
     #[arg(long, default_value = "test")]
     split: String,
@@ -52,6 +51,27 @@ pub struct EvalVaeArgs {
     /// At most this many meshes (0 = all).
     #[arg(long, default_value_t = 0)]
     limit: usize,
+}
+
+impl EvalSetArgs {
+    /// The selected meshes with at most `max_vertices` vertices ([`eval_meshes`]).
+    pub fn meshes(&self, max_vertices: usize) -> Result<(NamedMeshes, Vec<String>, String)> {
+        eval_meshes(
+            self.input.as_deref(),
+            &self.split,
+            self.data.clone(),
+            max_vertices,
+            self.limit,
+        )
+    }
+}
+
+#[derive(Args)]
+pub struct EvalVaeArgs {
+    #[arg(long, default_value = DEFAULT_WEIGHTS)]
+    weights: PathBuf,
+    #[command(flatten)]
+    set: EvalSetArgs,
     /// Write the JSON report here.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -243,7 +263,7 @@ fn parse_split(name: &str) -> Result<Split> {
 }
 
 /// Named meshes to evaluate.
-type NamedMeshes = Vec<(String, Mesh)>;
+pub type NamedMeshes = Vec<(String, Mesh)>;
 
 /// Meshes of a folder, prepared like the data build; files that fail are listed as skipped.
 fn folder_meshes(dir: &Path, max_vertices: usize) -> Result<(NamedMeshes, Vec<String>)> {
@@ -306,7 +326,7 @@ fn split_meshes(
     max_vertices: usize,
 ) -> Result<(NamedMeshes, Vec<String>, String)> {
     let split = parse_split(split)?;
-    let data = data.unwrap_or_else(|| crate::data::default_cache().join("shards"));
+    let data = crate::data::shards_dir(data);
     let all = load_split(&data, split)?;
     let total = all.len();
     let kept: NamedMeshes = all
@@ -327,13 +347,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
     let (vae, manifest) = load_weights(&args.weights, &device)?;
     let cfg = &manifest.model;
-    let (meshes, mut skipped, source) = eval_meshes(
-        args.input.as_deref(),
-        &args.split,
-        args.data.clone(),
-        cfg.num_vertices,
-        args.limit,
-    )?;
+    let (meshes, mut skipped, source) = args.set.meshes(cfg.num_vertices)?;
     if let Some(dir) = &args.meshes {
         fs::create_dir_all(dir)?;
     }
