@@ -1,6 +1,7 @@
 //! Extraction from ground-truth edges on icospheres and the spacetime threshold on N x 32
 //! embeddings: the two figures DESIGN.md section 4 compares with the reference.
-//! Run: `cargo bench -p meshflow --bench extract`. Single-threaded by construction.
+//! Run: `cargo bench -p meshflow --bench extract` (add `--features wgpu` for the WGSL kernel on
+//! Vulkan). The CPU kernels are single-threaded by construction.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
 use meshflow::extract::{TAU, spacetime_edges};
@@ -28,5 +29,36 @@ fn threshold(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, extraction, threshold);
+/// The WGSL threshold (`threshold_gpu`) on burn-wgpu's Vulkan device, read back: what
+/// generation pays on a wgpu device instead of reading the embeddings back for the CPU
+/// kernel. On lavapipe this is a CPU too, so compare it with the GPU figures with care.
+#[cfg(feature = "wgpu")]
+fn threshold_gpu(c: &mut Criterion) {
+    use burn::tensor::{Tensor, TensorData};
+    use meshflow::threshold_gpu::spacetime_edge_bits;
+    let Ok(device) = meshflow::device::vulkan() else {
+        eprintln!("no Vulkan device: skipping the GPU threshold");
+        return;
+    };
+    let mut group = c.benchmark_group("spacetime_threshold_wgpu");
+    group.sample_size(10);
+    for n in [512, 1024, 2048, 4096] {
+        let emb = random_embeddings(n, 32, 1);
+        let emb = Tensor::<3>::from_data(TensorData::new(emb, [1, n, 32]), &device);
+        let mask = Tensor::<3>::ones([1, n, 1], &device);
+        group.bench_with_input(BenchmarkId::from_parameter(n), &n, |b, _| {
+            b.iter(|| {
+                spacetime_edge_bits(emb.clone(), mask.clone(), TAU)
+                    .unwrap()
+                    .into_data()
+            })
+        });
+    }
+    group.finish();
+}
+
+#[cfg(not(feature = "wgpu"))]
+fn threshold_gpu(_: &mut Criterion) {}
+
+criterion_group!(benches, extraction, threshold, threshold_gpu);
 criterion_main!(benches);

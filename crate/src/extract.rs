@@ -95,6 +95,8 @@ pub enum ExtractError {
     BadEmbeddingDim(usize),
     #[error("{what} contains a non-finite value at row {row}")]
     NonFinite { what: &'static str, row: usize },
+    #[error("edge bit ({a}, {b}) joins a vertex the mask dropped")]
+    MaskedEdge { a: u32, b: u32 },
 }
 
 /// How the non-manifold filter ranks faces that compete for an edge.
@@ -544,23 +546,72 @@ pub struct DecodedVertices<'a> {
     pub mask_logits: &'a [f32],
     pub positions: &'a [Vec3],
     pub normals: &'a [Vec3],
-    /// `dim` values per vertex.
-    pub embeddings: &'a [f32],
-    pub dim: usize,
+    pub edges: DecodedEdges<'a>,
 }
 
-/// The whole of Algorithm 1 on decoder outputs: mask, CPU spacetime threshold, then
-/// [`extract_mesh`] (with edge-margin support for the optional non-manifold filter).
+/// Where a decoded mesh's edges come from.
+#[derive(Clone, Copy, Debug)]
+pub enum DecodedEdges<'a> {
+    /// The edge embeddings, `dim` values per vertex, thresholded on the CPU after masking.
+    Embeddings { values: &'a [f32], dim: usize },
+    /// The bit matrix of the GPU threshold (`threshold_gpu`, feature `wgpu`), which has
+    /// applied the mask and tau already; see [`edges_from_bits`].
+    Bits {
+        words: &'a [u32],
+        words_per_row: usize,
+    },
+}
+
+/// The edges `[i, j]`, i < j < n, of a bit matrix with `words_per_row` u32 words per vertex:
+/// bit `j % 32` of word `i * words_per_row + j / 32` marks (i, j). Sorted lexicographically.
+/// Bits at or below the diagonal are not edges and are ignored; a bit past the last vertex, or
+/// a matrix of the wrong size, is an error.
+pub fn edges_from_bits(
+    words: &[u32],
+    words_per_row: usize,
+    n: usize,
+) -> Result<Vec<Edge>, ExtractError> {
+    if words_per_row < n.div_ceil(32) || words.len() != n * words_per_row {
+        return Err(ExtractError::LengthMismatch {
+            what: "edge bits",
+            got: words.len(),
+            expected: n * n.div_ceil(32),
+        });
+    }
+    let mut edges = Vec::new();
+    for (i, row) in words.chunks_exact(words_per_row.max(1)).enumerate() {
+        for (w, &word) in row.iter().enumerate() {
+            let mut rest = word;
+            while rest != 0 {
+                let j = w * 32 + rest.trailing_zeros() as usize;
+                rest &= rest - 1;
+                if j >= n {
+                    return Err(ExtractError::EdgeOutOfRange {
+                        a: i as u32,
+                        b: j as u32,
+                        vertices: n,
+                    });
+                }
+                if j > i {
+                    edges.push([i as u32, j as u32]);
+                }
+            }
+        }
+    }
+    Ok(edges)
+}
+
+/// The whole of Algorithm 1 on decoder outputs: mask, spacetime threshold (on the CPU, or
+/// already done on the GPU), then [`extract_mesh`]. The optional non-manifold filter ranks
+/// faces by edge margin when the embeddings are at hand, and geometrically otherwise.
 pub fn extract_from_decoded(
     decoded: &DecodedVertices,
     opts: &ExtractOptions,
 ) -> Result<(Mesh, ExtractReport), ExtractError> {
     let n = decoded.mask_logits.len();
-    let dim = decoded.dim;
     for (what, got, expected) in [
         ("positions", decoded.positions.len(), n),
         ("normals", decoded.normals.len(), n),
-        ("embeddings", decoded.embeddings.len(), n * dim),
     ] {
         if got != expected {
             return Err(ExtractError::LengthMismatch {
@@ -579,25 +630,55 @@ pub fn extract_from_decoded(
             return Err(ExtractError::NonFinite { what, row });
         }
     }
-    if let Some(i) = decoded.embeddings.iter().position(|x| !x.is_finite()) {
-        return Err(ExtractError::NonFinite {
-            what: "embeddings",
-            row: i / dim.max(1),
-        });
-    }
     let kept: Vec<usize> = (0..n).filter(|&i| decoded.mask_logits[i] > 0.0).collect();
     let positions: Vec<Vec3> = kept.iter().map(|&i| decoded.positions[i]).collect();
     let normals: Vec<Vec3> = kept.iter().map(|&i| decoded.normals[i]).collect();
-    let embeddings: Vec<f32> = kept
-        .iter()
-        .flat_map(|&i| decoded.embeddings[i * dim..(i + 1) * dim].iter().copied())
-        .collect();
-    let edges = spacetime_edges(&embeddings, dim, opts.tau)?;
-    let support = FaceSupport::EdgeMargin {
-        embeddings: &embeddings,
-        dim,
+    let (mesh, mut report) = match decoded.edges {
+        DecodedEdges::Embeddings { values, dim } => {
+            if values.len() != n * dim {
+                return Err(ExtractError::LengthMismatch {
+                    what: "embeddings",
+                    got: values.len(),
+                    expected: n * dim,
+                });
+            }
+            if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+                return Err(ExtractError::NonFinite {
+                    what: "embeddings",
+                    row: i / dim.max(1),
+                });
+            }
+            let embeddings: Vec<f32> = kept
+                .iter()
+                .flat_map(|&i| values[i * dim..(i + 1) * dim].iter().copied())
+                .collect();
+            let edges = spacetime_edges(&embeddings, dim, opts.tau)?;
+            let support = FaceSupport::EdgeMargin {
+                embeddings: &embeddings,
+                dim,
+            };
+            extract_mesh(&positions, &normals, &edges, support, opts)?
+        }
+        DecodedEdges::Bits {
+            words,
+            words_per_row,
+        } => {
+            // The kernel only marks kept pairs; renumber them as the kept vertices.
+            let mut new_index = vec![u32::MAX; n];
+            for (k, &i) in kept.iter().enumerate() {
+                new_index[i] = k as u32;
+            }
+            let mut edges = Vec::new();
+            for [i, j] in edges_from_bits(words, words_per_row, n)? {
+                let (a, b) = (new_index[i as usize], new_index[j as usize]);
+                if a == u32::MAX || b == u32::MAX {
+                    return Err(ExtractError::MaskedEdge { a: i, b: j });
+                }
+                edges.push([a, b]);
+            }
+            extract_mesh(&positions, &normals, &edges, FaceSupport::Geometric, opts)?
+        }
     };
-    let (mesh, mut report) = extract_mesh(&positions, &normals, &edges, support, opts)?;
     report.input_vertices = n;
     report.kept_vertices = kept.len();
     Ok((mesh, report))
@@ -853,6 +934,28 @@ mod tests {
     }
 
     #[test]
+    fn bit_rows_become_sorted_edges_above_the_diagonal() {
+        // n = 40: two words per row; row 0 marks 1 and 33, row 1 marks itself (ignored) and 39.
+        let mut words = vec![0u32; 80];
+        words[0] = 1 << 1;
+        words[1] = 1 << 1;
+        words[2] = 1 << 1;
+        words[3] = 1 << 7;
+        assert_eq!(
+            edges_from_bits(&words, 2, 40).unwrap(),
+            vec![[0, 1], [0, 33], [1, 39]]
+        );
+        // A bit past the last vertex, and a matrix of the wrong size.
+        words[5] = 1 << 8;
+        assert!(matches!(
+            edges_from_bits(&words, 2, 40),
+            Err(ExtractError::EdgeOutOfRange { a: 2, b: 40, .. })
+        ));
+        assert!(edges_from_bits(&words[..78], 2, 40).is_err());
+        assert!(edges_from_bits(&words[..40], 1, 40).is_err());
+    }
+
+    #[test]
     fn decoded_outputs_are_masked_then_thresholded() {
         // Three vertices whose embeddings put them pairwise at spacetime distance 1 > tau,
         // plus a masked-out one that would join them.
@@ -865,14 +968,46 @@ mod tests {
             mask_logits: &[1.0, 2.0, 0.5, -1.0],
             positions: &positions,
             normals: &normals,
-            embeddings: &emb,
-            dim,
+            edges: DecodedEdges::Embeddings { values: &emb, dim },
         };
         let (mesh, r) = extract_from_decoded(&decoded, &ExtractOptions::default()).unwrap();
         assert_eq!((r.input_vertices, r.kept_vertices, r.edges), (4, 3, 3));
         assert_eq!(mesh.faces, vec![[0, 1, 2]]);
-        let bad = DecodedVertices { dim: 3, ..decoded };
+        let bad = DecodedVertices {
+            edges: DecodedEdges::Embeddings {
+                values: &emb,
+                dim: 3,
+            },
+            ..decoded
+        };
         assert!(extract_from_decoded(&bad, &ExtractOptions::default()).is_err());
+
+        // The same edges as the GPU kernel's bit matrix give the same mesh.
+        let words = [0b110, 0b100, 0, 0];
+        let from_bits = DecodedVertices {
+            edges: DecodedEdges::Bits {
+                words: &words,
+                words_per_row: 1,
+            },
+            ..decoded
+        };
+        let (bits_mesh, bits_r) =
+            extract_from_decoded(&from_bits, &ExtractOptions::default()).unwrap();
+        assert_eq!(bits_mesh, mesh);
+        assert_eq!(bits_r, r);
+        // A bit that joins the masked-out vertex 3 is a broken matrix, not an edge.
+        let words = [0b1110, 0b100, 0, 0];
+        let masked = DecodedVertices {
+            edges: DecodedEdges::Bits {
+                words: &words,
+                words_per_row: 1,
+            },
+            ..decoded
+        };
+        assert_eq!(
+            extract_from_decoded(&masked, &ExtractOptions::default()).unwrap_err(),
+            ExtractError::MaskedEdge { a: 0, b: 3 }
+        );
         // A non-finite row is named in the decoder's numbering, masked rows included.
         let mut nan = positions;
         nan[3].x = f32::NAN;

@@ -7,9 +7,11 @@
 //!    [`crate::condition::inference_positions`].
 //! 2. **Sample**: seeded Gaussian noise integrated by the Euler sampler with the DiT.
 //! 3. **Decode**: latents are de-normalised with the VAE manifest's mean/std and decoded.
-//! 4. **Extract**: Algorithm 1 on the decoded vertices, then back to the input's frame.
+//! 4. **Extract**: Algorithm 1 on the decoded vertices, then back to the input's frame. On a
+//!    wgpu device the spacetime threshold runs there (`threshold_gpu`) and only the edge bits
+//!    are read back; on the CPU backend the embeddings are read back and thresholded on the host.
 
-use burn::tensor::{Device, Tensor, TensorData};
+use burn::tensor::{Device, Int, Tensor, TensorData};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 use web_time::Instant;
@@ -17,7 +19,9 @@ use web_time::Instant;
 use crate::Mesh;
 use crate::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::condition::{inference_positions, vertex_condition};
-use crate::extract::{DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded};
+use crate::extract::{
+    DecodedEdges, DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded,
+};
 use crate::model::dit::{Dit, DitConfig, Rope};
 use crate::model::sampler::{SampleError, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
@@ -172,12 +176,36 @@ pub struct Prepared {
     pub times: StageTimes,
 }
 
+/// The decoder's outputs on the device, as [`Generator::decode`] leaves them for readback.
+pub struct DecodedDevice {
+    /// `[B, N, 1]`, `[B, N, 3]`, `[B, N, 3]`.
+    pub mask_logits: Tensor<3>,
+    pub positions: Tensor<3>,
+    pub normals: Tensor<3>,
+    pub edges: DeviceEdges,
+}
+
+/// The edges as they leave the device.
+pub enum DeviceEdges {
+    /// `[B, N, E]` edge embeddings, thresholded on the host (the CPU backend, or when the
+    /// non-manifold filter needs the margins).
+    Embeddings(Tensor<3>),
+    /// `[B, N, ceil(N / 32)]` u32 edge bits from the GPU threshold.
+    Bits(Tensor<3, Int>),
+}
+
 /// The decoder's outputs read back to the host, row-major `[B, N, C]` each.
 pub struct DecodedHost {
     pub mask_logits: Vec<f32>,
     pub positions: Vec<f32>,
     pub normals: Vec<f32>,
-    pub edge_embeddings: Vec<f32>,
+    pub edges: HostEdges,
+}
+
+/// [`DeviceEdges`] read back.
+pub enum HostEdges {
+    Embeddings(Vec<f32>),
+    Bits(Vec<u32>),
 }
 
 impl Generator<'_> {
@@ -212,12 +240,15 @@ impl Generator<'_> {
         prepared.times.sample_s = started.elapsed().as_secs_f64();
 
         let started = Instant::now();
-        let out = self.decode(latents);
+        let out = self.decode(latents, &opts.extract);
         let host = DecodedHost {
             mask_logits: read_vec(out.mask_logits)?,
             positions: read_vec(out.positions)?,
             normals: read_vec(out.normals)?,
-            edge_embeddings: read_vec(out.edge_embeddings)?,
+            edges: match out.edges {
+                DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read_vec(t)?),
+                DeviceEdges::Bits(t) => HostEdges::Bits(read_bits(t.try_into_data())?),
+            },
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         self.extract(prepared, &host, &opts.extract)
@@ -275,13 +306,26 @@ impl Generator<'_> {
     }
 
     /// Stage 3: de-normalises sampled latents with the VAE manifest's mean/std and decodes.
-    pub fn decode(&self, latents: Tensor<3>) -> crate::model::Decoded {
+    /// On a wgpu device the spacetime threshold runs there too, unless `extract` asks for the
+    /// non-manifold filter, which ranks faces by the embeddings' margins on the host.
+    pub fn decode(&self, latents: Tensor<3>, extract: &ExtractOptions) -> DecodedDevice {
         let d = self.vae_config.latent_dim;
         let channel = |v: &[f32]| {
             Tensor::<1>::from_data(TensorData::new(v.to_vec(), [d]), self.device).reshape([1, 1, d])
         };
         let latents = latents * channel(self.latent_std) + channel(self.latent_mean);
-        self.vae.decode(latents, &mut Trace::default())
+        let out = self.vae.decode(latents, &mut Trace::default());
+        let edges = if extract.drop_non_manifold {
+            DeviceEdges::Embeddings(out.edge_embeddings)
+        } else {
+            edges_on_device(out.edge_embeddings, out.mask_logits.clone(), extract.tau)
+        };
+        DecodedDevice {
+            mask_logits: out.mask_logits,
+            positions: out.positions,
+            normals: out.normals,
+            edges,
+        }
     }
 
     /// Stage 4: Algorithm 1 on each decoded row, mapped back to its input's frame.
@@ -293,17 +337,27 @@ impl Generator<'_> {
     ) -> Result<Vec<Generated>, GenerateError> {
         let started = Instant::now();
         let (n, e) = (self.vae_config.num_vertices, self.vae_config.edge_dim);
+        let words = n.div_ceil(32);
         let mut meshes = Vec::with_capacity(prepared.conditioned.len());
         for (k, c) in prepared.conditioned.iter().enumerate() {
             let rows = k * n..(k + 1) * n;
             let pos = vec3s(&host.positions[rows.start * 3..rows.end * 3]);
             let nrm = vec3s(&host.normals[rows.start * 3..rows.end * 3]);
+            let edges = match &host.edges {
+                HostEdges::Embeddings(values) => DecodedEdges::Embeddings {
+                    values: &values[rows.start * e..rows.end * e],
+                    dim: e,
+                },
+                HostEdges::Bits(bits) => DecodedEdges::Bits {
+                    words: &bits[rows.start * words..rows.end * words],
+                    words_per_row: words,
+                },
+            };
             let decoded = DecodedVertices {
                 mask_logits: &host.mask_logits[rows.clone()],
                 positions: &pos,
                 normals: &nrm,
-                embeddings: &host.edge_embeddings[rows.start * e..rows.end * e],
-                dim: e,
+                edges,
             };
             let (mesh, report) = extract_from_decoded(&decoded, extract)?;
             meshes.push((c.to_input.apply_mesh(&mesh), report));
@@ -409,6 +463,35 @@ fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
     read(t)?
         .convert::<f32>()
         .try_into_vec::<f32>()
+        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+}
+
+/// The GPU threshold where the tensors live on a wgpu device, the embeddings otherwise.
+#[cfg(feature = "wgpu")]
+fn edges_on_device(embeddings: Tensor<3>, mask_logits: Tensor<3>, tau: f32) -> DeviceEdges {
+    use crate::threshold_gpu::{GpuThresholdError, spacetime_edge_bits};
+    match spacetime_edge_bits(embeddings.clone(), mask_logits, tau) {
+        Ok(bits) => DeviceEdges::Bits(bits),
+        Err(GpuThresholdError::NotOnWgpu | GpuThresholdError::TooLarge(_)) => {
+            DeviceEdges::Embeddings(embeddings)
+        }
+        // The decoder's own shapes; the host path reports a mismatch with a typed error.
+        Err(GpuThresholdError::Shapes(..)) => DeviceEdges::Embeddings(embeddings),
+    }
+}
+
+#[cfg(not(feature = "wgpu"))]
+fn edges_on_device(embeddings: Tensor<3>, _mask_logits: Tensor<3>, _tau: f32) -> DeviceEdges {
+    DeviceEdges::Embeddings(embeddings)
+}
+
+/// Edge bits from read-back data (u32, or whatever integer type the backend reports).
+pub fn read_bits(
+    data: Result<TensorData, impl std::fmt::Debug>,
+) -> Result<Vec<u32>, GenerateError> {
+    data.map_err(|e| GenerateError::Readback(format!("{e:?}")))?
+        .convert::<u32>()
+        .try_into_vec::<u32>()
         .map_err(|e| GenerateError::Readback(format!("{e:?}")))
 }
 

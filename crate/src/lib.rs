@@ -27,6 +27,8 @@
 //! - [`shipped`]: the shipped weights' manifests, and loading them from bytes with checks.
 //! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
 //! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
+//! - `threshold_gpu` (feature `wgpu`): Algorithm 1's spacetime threshold as a WGSL kernel on
+//!   Burn's wgpu device, so only an edge bit matrix is read back.
 //! - [`rng`]: a small seeded generator so results are reproducible on every platform.
 //! - `web` (wasm32, feature `web`): the browser API, wasm-bindgen.
 //! - [`workloads`]: the inputs the extraction benchmarks time.
@@ -52,6 +54,8 @@ pub mod reconstruct;
 pub mod rng;
 pub mod sample;
 pub mod shipped;
+#[cfg(feature = "wgpu")]
+pub mod threshold_gpu;
 pub mod tokens;
 pub mod topology;
 #[cfg(feature = "train")]

@@ -11,7 +11,9 @@ use serde::Serialize;
 
 use crate::Mesh;
 use crate::clean::{CleanOptions, clean};
-use crate::extract::{DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded};
+use crate::extract::{
+    DecodedEdges, DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded,
+};
 use crate::metrics::{
     CompareOptions, Comparison, compare_meshes, edge_scores, normal_distance, vertex_distance,
 };
@@ -149,8 +151,10 @@ pub fn reconstruct_batch(
             mask_logits: mask,
             positions: &pos,
             normals: &nrm,
-            embeddings: &embeddings[rows.start * e..rows.end * e],
-            dim: e,
+            edges: DecodedEdges::Embeddings {
+                values: &embeddings[rows.start * e..rows.end * e],
+                dim: e,
+            },
         };
         let (mesh, report) = extract_from_decoded(&decoded, extract)?;
         let comparison = if mesh.faces.is_empty() {

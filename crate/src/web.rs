@@ -12,7 +12,10 @@ use glam::Vec3;
 use wasm_bindgen::prelude::*;
 use web_time::Instant;
 
-use crate::generate::{DecodedHost, GenerateOptions, Generated, Generator, input_points};
+use crate::generate::{
+    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
+    read_bits,
+};
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::MeshVae;
 use crate::model::dit::Dit;
@@ -171,12 +174,17 @@ impl MeshFlow {
         prepared.times.sample_s = started.elapsed().as_secs_f64();
 
         let started = Instant::now();
-        let out = generator.decode(x);
+        let out = generator.decode(x, &opts.extract);
         let host = DecodedHost {
             mask_logits: read(out.mask_logits).await?,
             positions: read(out.positions).await?,
             normals: read(out.normals).await?,
-            edge_embeddings: read(out.edge_embeddings).await?,
+            edges: match out.edges {
+                DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read(t).await?),
+                DeviceEdges::Bits(t) => {
+                    HostEdges::Bits(read_bits(t.into_data_async().await).map_err(js_error)?)
+                }
+            },
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         let mut out = generator
