@@ -99,6 +99,8 @@ worker.onmessage = ({ data }) => {
       result = data;
       viewer.setMesh(data.positions, data.indices);
       showStats(data.report);
+      // For scripts driving the page (bench/browser.mjs).
+      window.__meshflowReport = data.report;
       $('downloads').hidden = false;
       document.body.dataset.generated = String((Number(document.body.dataset.generated) || 0) + 1);
       setRunning(false);

@@ -179,6 +179,33 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await cpu.close();
 });
 
+// The vertex positions and triangle indices of a GLB's first primitive.
+function glbMesh(bytes) {
+  const buf = Buffer.from(bytes);
+  const jsonLength = buf.readUInt32LE(12);
+  const gltf = JSON.parse(buf.subarray(20, 20 + jsonLength).toString('utf8'));
+  const bin = buf.subarray(28 + jsonLength);
+  const read = (index) => {
+    const accessor = gltf.accessors[index];
+    const view = gltf.bufferViews[accessor.bufferView];
+    const offset = (view.byteOffset ?? 0) + (accessor.byteOffset ?? 0);
+    const width = { SCALAR: 1, VEC3: 3 }[accessor.type];
+    const Kind = { 5126: Float32Array, 5125: Uint32Array, 5123: Uint16Array }[accessor.componentType];
+    const bytes = bin.subarray(offset, offset + accessor.count * width * Kind.BYTES_PER_ELEMENT);
+    return Array.from(new Kind(bytes.buffer.slice(bytes.byteOffset, bytes.byteOffset + bytes.length)));
+  };
+  const primitive = gltf.meshes[0].primitives[0];
+  return { positions: read(primitive.attributes.POSITION), indices: read(primitive.indices) };
+}
+
+// The native CLI from the cargo build scripts/test.sh ran before this file.
+const NATIVE_CLI = join(
+  process.env.CARGO_TARGET_DIR ?? join(process.env.HOME, '.cache/meshflow/target'),
+  'release/meshflow',
+);
+const SAME_AS_NATIVE = { steps: 4, vertices: 160, seed: 7 };
+let wasmMeshes = null;
+
 await check('the npm package imports and generates the way a user would', async () => {
   // Pack the package, unpack it into node_modules of a plain ESM page, serve that.
   const app = join(out, 'app');
@@ -190,11 +217,21 @@ await check('the npm package imports and generates the way a user would', async 
   writeFileSync(
     join(app, 'main.js'),
     `import { loadModel, readPoints } from './node_modules/meshflow/web/lib/index.js';
-     const model = await loadModel();
      const bytes = new Uint8Array(await (await fetch('lantern.ply')).arrayBuffer());
-     const mesh = await model.generate(await readPoints(bytes, 'lantern.ply'), { steps: 4, vertices: 160 });
-     document.body.dataset.faces = String(mesh.indices.length / 3);
-     document.body.dataset.glb = String(mesh.toGlb().length);`,
+     const points = await readPoints(bytes, 'lantern.ply');
+     const options = ${JSON.stringify(SAME_AS_NATIVE)};
+     // Both backends, for the comparison with the native CLI below.
+     window.__glbs = {};
+     try {
+       for (const backend of ['webgpu', 'cpu']) {
+         const model = await loadModel({ backend });
+         const mesh = await model.generate(points, options);
+         window.__glbs[backend] = Array.from(mesh.toGlb());
+       }
+       document.body.dataset.done = 'ok';
+     } catch (e) {
+       document.body.dataset.done = String(e?.message ?? e);
+     }`,
   );
   writeFileSync(join(app, 'lantern.ply'), readFileSync(FIXTURE));
   const { createServer } = await import('node:http');
@@ -215,11 +252,45 @@ await check('the npm package imports and generates the way a user would', async 
   const p = await b.newPage();
   p.on('pageerror', (e) => console.log(`  pageerror: ${e.message}`));
   await p.goto(`http://127.0.0.1:${appServer.address().port}/`);
-  await p.waitForFunction(() => document.body?.dataset.faces, null, { timeout: GENERATION_TIMEOUT });
-  const faces = Number(await p.evaluate(() => document.body.dataset.faces));
-  assert(faces > 0, `faces ${faces}`);
+  await p.waitForFunction(() => document.body?.dataset.done, null, { timeout: GENERATION_TIMEOUT });
+  const done = await p.evaluate(() => document.body.dataset.done);
+  assert(done === 'ok', `the package threw: ${done}`);
+  const glbs = await p.evaluate(() => window.__glbs);
   await b.close();
   appServer.close();
+  wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
+  assert(wasmMeshes.webgpu.indices.length > 0, 'the WebGPU mesh has no faces');
+});
+
+await check('wasm and native give the same mesh for the same seed and input', async () => {
+  assert(wasmMeshes, 'the npm-package check produced no meshes');
+  // Within 1e-4 in the model's frame, where the input's bounding box spans [-1, 1] (input
+  // coordinates reach about 50 here, so that is 1e-4 * extent / 2 in the input's units).
+  const fixture = readFileSync(FIXTURE, 'utf8').split('end_header')[1].trim().split(/\s+/).map(Number);
+  const extent = Math.max(...[0, 1, 2].map((a) => {
+    const axis = fixture.filter((_, i) => i % 3 === a);
+    return Math.max(...axis) - Math.min(...axis);
+  }));
+  const report = [];
+  for (const [wasmBackend, nativeBackend] of [['webgpu', 'wgpu'], ['cpu', 'cpu']]) {
+    const file = join(out, `native-${nativeBackend}.glb`);
+    const { steps, vertices, seed } = SAME_AS_NATIVE;
+    execFileSync(NATIVE_CLI, ['generate', FIXTURE, '-o', file, '--steps', String(steps), '--vertices',
+      String(vertices), '--seed', String(seed), '--backend', nativeBackend], { cwd: ROOT, stdio: 'pipe' });
+    const native = glbMesh(readFileSync(file));
+    const wasm = wasmMeshes[wasmBackend];
+    assert(
+      JSON.stringify(native.indices) === JSON.stringify(wasm.indices),
+      `${wasmBackend}: faces differ (${wasm.indices.length / 3} in wasm, ${native.indices.length / 3} native)`,
+    );
+    assert(native.positions.length === wasm.positions.length, `${wasmBackend}: vertex counts differ`);
+    let worst = 0;
+    native.positions.forEach((v, i) => { worst = Math.max(worst, Math.abs(v - wasm.positions[i])); });
+    const modelFrame = (worst * 2) / extent;
+    report.push(`${wasmBackend} vs native ${nativeBackend}: ${wasm.indices.length / 3} faces, max |dv| ${worst.toExponential(2)} (${modelFrame.toExponential(2)} in the model frame)`);
+    assert(modelFrame <= 1e-4, report.at(-1));
+  }
+  console.log(`  ${report.join('\n  ')}`);
 });
 
 server.close();

@@ -1,0 +1,84 @@
+// Time to first mesh and per-stage times of the web page in Debian's headless Chromium,
+// written to bench/browser.json. Not a test: run it by hand after scripts/build-web.sh,
+//   node bench/browser.mjs [--steps 28]
+// Three runs of the bundled example at the page's defaults (vertex budget from the shape, 28
+// steps, seed 0):
+//   cold:  a fresh browser profile, so the weights are downloaded and nothing is cached;
+//   warm:  the same profile reloaded, weights from Cache Storage;
+//   cpu:   WebGPU off, the CPU fallback inside wasm (warm, from its own first load).
+// WebGPU here is SwiftShader, a CPU implementation of Vulkan: these are the figures of a
+// machine without a GPU, not of a visitor's GPU.
+import { chromium } from 'playwright-core';
+import { mkdtempSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { execSync } from 'node:child_process';
+import { cpus, tmpdir } from 'node:os';
+import { join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { serve } from '../web/serve.mjs';
+
+const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
+const steps = Number(process.argv[process.argv.indexOf('--steps') + 1] || 28) || 28;
+const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--use-angle=swiftshader', '--use-vulkan=swiftshader', '--enable-features=Vulkan'];
+const EXAMPLE = '../tests/fixtures/points/stone_lantern_2048.ply';
+
+const server = await serve(0);
+const url = `http://127.0.0.1:${server.address().port}/web/`;
+
+// Opens the page (navigation start = 0), waits for the model, picks the example, generates.
+async function firstMesh(page, reload) {
+  await (reload ? page.reload() : page.goto(url));
+  await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 600_000 });
+  const ready = await page.evaluate(() => performance.now());
+  await page.selectOption('#example', EXAMPLE);
+  await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+  await page.fill('#steps', String(steps));
+  const clicked = await page.evaluate(() => performance.now());
+  await page.click('#generate');
+  await page.waitForFunction(() => window.__meshflowReport, null, { timeout: 1_800_000 });
+  const done = await page.evaluate(() => performance.now());
+  const report = await page.evaluate(() => window.__meshflowReport);
+  return {
+    backend: await page.evaluate(() => document.body.dataset.backend),
+    weights_from_cache: (await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'true',
+    model_ready_s: ready / 1000,
+    generate_s: (done - clicked) / 1000,
+    // Navigation to mesh on screen, less the example's fetch and the scripted clicks.
+    time_to_first_mesh_s: (ready + done - clicked) / 1000,
+    stages_s: report.times,
+    vertex_budget: report.vertexBudget,
+    vertices: report.topology.vertices,
+    faces: report.topology.faces,
+  };
+}
+
+async function run(webgpu, runs) {
+  const profile = mkdtempSync(join(tmpdir(), 'meshflow-bench-'));
+  const context = await chromium.launchPersistentContext(profile, {
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    headless: true,
+    args: ['--no-sandbox', ...(webgpu ? WEBGPU_FLAGS : [])],
+  });
+  const page = context.pages()[0] ?? (await context.newPage());
+  const results = [];
+  for (const reload of runs) results.push(await firstMesh(page, reload));
+  await context.close();
+  rmSync(profile, { recursive: true, force: true });
+  return results;
+}
+
+const [cold, warm] = await run(true, [false, true]);
+const [, cpu] = await run(false, [false, true]);
+server.close();
+const wasm = join(ROOT, 'web/pkg/meshflow_bg.wasm');
+const result = {
+  method: `node bench/browser.mjs: headless Chromium ${execSync('chromium --version').toString().trim()} ` +
+    `(WebGPU = SwiftShader), the bundled example at the page defaults with ${steps} steps, one run each`,
+  machine: `${cpus()[0].model}, ${cpus().length} threads`,
+  wasm_bytes: statSync(wasm).size,
+  wasm_gzip_bytes: Number(execSync(`gzip -9 -c ${wasm} | wc -c`).toString()),
+  cold,
+  warm,
+  cpu_fallback: cpu,
+};
+writeFileSync(join(ROOT, 'bench/browser.json'), `${JSON.stringify(result, null, 2)}\n`);
+console.log(JSON.stringify(result, null, 2));
