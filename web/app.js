@@ -1,9 +1,43 @@
 // The page: file input, controls, progress, stats and downloads. The model runs in a worker.
-import { Viewer } from './viewer2d.js';
+// On WebGPU the worker also draws the mesh (the wgpu viewer in Rust, on the model's device,
+// into the canvas handed over as an OffscreenCanvas); on the CPU backend the 2D viewer draws
+// here.
+import { bindControls } from './controls.js';
+import { Viewer2D } from './viewer2d.js';
 
 const $ = (id) => document.getElementById(id);
-const viewer = new Viewer($('canvas'));
 const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+
+// Forwards camera operations to the wgpu viewer in the worker. The worker shows the points
+// and meshes itself, as it reads and generates them.
+class WorkerViewer {
+  setPoints() {}
+  setMesh() {}
+  orbit(dx, dy) { worker.postMessage({ type: 'view', op: 'orbit', args: [dx, dy] }); }
+  pan(dx, dy) { worker.postMessage({ type: 'view', op: 'pan', args: [dx, dy] }); }
+  zoom(factor) { worker.postMessage({ type: 'view', op: 'zoom', args: [factor] }); }
+  fit() { worker.postMessage({ type: 'view', op: 'fit', args: [] }); }
+}
+
+// Until the backend is known, nothing draws; the scene is kept for whichever viewer comes.
+let viewer = null;
+let scene = { points: null, mesh: null };
+
+function useViewer(v, canvas) {
+  viewer = v;
+  bindControls(canvas, v);
+  if (scene.points) v.setPoints(scene.points);
+  if (scene.mesh) v.setMesh(scene.mesh.positions, scene.mesh.indices);
+  document.body.dataset.viewer = v instanceof WorkerViewer ? 'wgpu' : '2d';
+}
+
+// A fresh canvas in place of `old` (one handed to the worker cannot take a 2D context).
+function replaceCanvas(old) {
+  const c = document.createElement('canvas');
+  for (const a of ['id', 'width', 'height', 'aria-label']) c.setAttribute(a, old.getAttribute(a));
+  old.replaceWith(c);
+  return c;
+}
 const params = new URLSearchParams(location.search);
 
 let points = null;
@@ -72,6 +106,13 @@ worker.onmessage = ({ data }) => {
       break;
     case 'ready':
       ready = true;
+      if (data.backend === 'webgpu' && 'transferControlToOffscreen' in HTMLCanvasElement.prototype) {
+        const offscreen = $('canvas').transferControlToOffscreen();
+        worker.postMessage({ type: 'viewer', canvas: offscreen }, [offscreen]);
+        useViewer(new WorkerViewer(), $('canvas'));
+      } else {
+        useViewer(new Viewer2D($('canvas')), $('canvas'));
+      }
       document.body.dataset.backend = data.backend;
       document.body.dataset.weightsFromCache = String(data.fromCache);
       $('backend').textContent =
@@ -86,8 +127,9 @@ worker.onmessage = ({ data }) => {
       result = null;
       $('downloads').hidden = true;
       $('input-info').textContent = `${data.name}: ${points.length / 3} points`;
-      viewer.setMesh(null);
-      viewer.setPoints(points);
+      scene = { points, mesh: null };
+      viewer?.setMesh(null);
+      viewer?.setPoints(points);
       setRunning(false);
       break;
     case 'step':
@@ -97,13 +139,19 @@ worker.onmessage = ({ data }) => {
       break;
     case 'done':
       result = data;
-      viewer.setMesh(data.positions, data.indices);
+      scene.mesh = { positions: data.positions, indices: data.indices };
+      viewer?.setMesh(data.positions, data.indices);
       showStats(data.report);
       // For scripts driving the page (bench/browser.mjs).
       window.__meshflowReport = data.report;
       $('downloads').hidden = false;
       document.body.dataset.generated = String((Number(document.body.dataset.generated) || 0) + 1);
       setRunning(false);
+      break;
+    case 'viewer-error':
+      // The wgpu viewer could not start: draw with the 2D one on a new canvas, and say so.
+      console.warn(`wgpu viewer: ${data.message}; using the 2D viewer`);
+      useViewer(new Viewer2D(replaceCanvas($('canvas'))), $('canvas'));
       break;
     case 'error':
       showError(data.during === 'load' ? `Could not load the model: ${data.message}` : data.message);

@@ -1,7 +1,7 @@
-// A small software viewer on a 2D canvas: flat-shaded triangles (painter's order), the
-// wireframe over them (topology is what this product is about) and the input points;
-// orbit, zoom, pan with mouse, touch and keyboard; fit-to-view.
-export class Viewer {
+// A small software viewer on a 2D canvas, for the CPU backend (the WebGPU one draws with the
+// wgpu viewer in the worker): flat-shaded triangles (painter's order), the wireframe over them
+// and the input points. Camera operations come from controls.js.
+export class Viewer2D {
   constructor(canvas) {
     this.canvas = canvas;
     this.ctx = canvas.getContext('2d');
@@ -9,9 +9,8 @@ export class Viewer {
     this.points = null;
     this.yaw = 0.7;
     this.pitch = 0.45;
-    this.zoom = 1;
-    this.pan = [0, 0];
-    this.#bind();
+    this.scale = 1;
+    this.offset = [0, 0];
     this.draw();
   }
 
@@ -38,8 +37,25 @@ export class Viewer {
     }
     this.center = lo.map((l, k) => (l + hi[k]) / 2);
     this.radius = Math.max(1e-9, Math.hypot(hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]) / 2);
-    this.zoom = 1;
-    this.pan = [0, 0];
+    this.scale = 1;
+    this.offset = [0, 0];
+    this.draw();
+  }
+
+  orbit(dx, dy) {
+    this.yaw += dx;
+    this.pitch = Math.max(-1.5, Math.min(1.5, this.pitch + dy));
+    this.draw();
+  }
+
+  pan(dx, dy) {
+    this.offset[0] += dx;
+    this.offset[1] += dy;
+    this.draw();
+  }
+
+  zoom(factor) {
+    this.scale *= factor;
     this.draw();
   }
 
@@ -53,8 +69,8 @@ export class Viewer {
     const y2 = cp * y - sp * z1;
     const z2 = sp * y + cp * z1;
     const { width: w, height: h } = this.canvas;
-    const s = (0.45 * Math.min(w, h) * this.zoom) / (this.radius ?? 1);
-    return [w / 2 + this.pan[0] + x1 * s, h / 2 + this.pan[1] - y2 * s, z2];
+    const s = (0.45 * Math.min(w, h) * this.scale) / (this.radius ?? 1);
+    return [w / 2 + this.offset[0] + x1 * s, h / 2 + this.offset[1] - y2 * s, z2];
   }
 
   draw() {
@@ -98,65 +114,5 @@ export class Viewer {
       ctx.fill();
       ctx.stroke();
     }
-  }
-
-  #bind() {
-    const c = this.canvas;
-    c.tabIndex = 0;
-    const pointers = new Map();
-    let last = null;
-    c.addEventListener('pointerdown', (e) => {
-      c.setPointerCapture(e.pointerId);
-      pointers.set(e.pointerId, [e.clientX, e.clientY]);
-      last = { x: e.clientX, y: e.clientY, pan: e.shiftKey || e.button === 2 };
-    });
-    c.addEventListener('pointermove', (e) => {
-      if (!pointers.has(e.pointerId)) return;
-      const prev = pointers.get(e.pointerId);
-      pointers.set(e.pointerId, [e.clientX, e.clientY]);
-      if (pointers.size === 2) {
-        const [p, q] = [...pointers.values()];
-        const before = Math.hypot(prev[0] - (p === prev ? q[0] : p[0]), prev[1] - (p === prev ? q[1] : p[1]));
-        const after = Math.hypot(p[0] - q[0], p[1] - q[1]);
-        if (before > 0) this.zoom *= after / before;
-      } else if (last) {
-        const dx = e.clientX - last.x, dy = e.clientY - last.y;
-        if (last.pan) {
-          this.pan[0] += dx;
-          this.pan[1] += dy;
-        } else {
-          this.yaw += dx * 0.01;
-          this.pitch = Math.max(-1.5, Math.min(1.5, this.pitch + dy * 0.01));
-        }
-        last.x = e.clientX;
-        last.y = e.clientY;
-      }
-      this.draw();
-    });
-    const end = (e) => {
-      pointers.delete(e.pointerId);
-      if (pointers.size === 0) last = null;
-    };
-    c.addEventListener('pointerup', end);
-    c.addEventListener('pointercancel', end);
-    c.addEventListener('contextmenu', (e) => e.preventDefault());
-    c.addEventListener('wheel', (e) => {
-      e.preventDefault();
-      this.zoom *= Math.exp(-e.deltaY * 0.001);
-      this.draw();
-    }, { passive: false });
-    c.addEventListener('keydown', (e) => {
-      const step = 0.1;
-      if (e.key === 'ArrowLeft') this.yaw -= step;
-      else if (e.key === 'ArrowRight') this.yaw += step;
-      else if (e.key === 'ArrowUp') this.pitch = Math.max(-1.5, this.pitch - step);
-      else if (e.key === 'ArrowDown') this.pitch = Math.min(1.5, this.pitch + step);
-      else if (e.key === '+' || e.key === '=') this.zoom *= 1.1;
-      else if (e.key === '-') this.zoom /= 1.1;
-      else if (e.key === 'f' || e.key === 'F') return this.fit();
-      else return;
-      e.preventDefault();
-      this.draw();
-    });
   }
 }

@@ -3,6 +3,9 @@ import { loadModel, readPoints } from './lib/index.js';
 
 let model = null;
 let abort = null;
+// The wgpu viewer (WebGPU only) and what it shows, kept so a viewer created later shows it.
+let viewer = null;
+let scene = { points: null, mesh: null };
 
 const post = (msg, transfer = []) => self.postMessage(msg, transfer);
 
@@ -17,6 +20,8 @@ self.onmessage = async ({ data }) => {
       post({ type: 'ready', backend: model.backend, fromCache: model.weightsFromCache, maxVertices: model.maxVertices });
     } else if (data.type === 'read') {
       const points = await readPoints(new Uint8Array(data.bytes), data.name);
+      scene = { points: points.slice(), mesh: null };
+      viewer?.setPoints(scene.points);
       post({ type: 'points', name: data.name, points }, [points.buffer]);
     } else if (data.type === 'generate') {
       abort = new AbortController();
@@ -27,11 +32,24 @@ self.onmessage = async ({ data }) => {
         signal: abort.signal,
         onStep: (i, n) => post({ type: 'step', i, n }),
       });
+      scene.mesh = { positions: mesh.positions.slice(), indices: mesh.indices.slice() };
+      viewer?.setMesh(scene.mesh.positions, scene.mesh.indices);
       const glb = mesh.toGlb();
       post(
         { type: 'done', positions: mesh.positions, normals: mesh.normals, indices: mesh.indices, report: mesh.report, glb, obj: mesh.toObj() },
         [mesh.positions.buffer, mesh.normals.buffer, mesh.indices.buffer, glb.buffer],
       );
+    } else if (data.type === 'viewer') {
+      try {
+        viewer = model.createViewer(data.canvas);
+        if (scene.points) viewer.setPoints(scene.points);
+        if (scene.mesh) viewer.setMesh(scene.mesh.positions, scene.mesh.indices);
+      } catch (e) {
+        viewer = null;
+        post({ type: 'viewer-error', message: e?.message ?? String(e) });
+      }
+    } else if (data.type === 'view') {
+      viewer?.[data.op](...data.args);
     } else if (data.type === 'cancel') {
       abort?.abort();
     }

@@ -22,6 +22,8 @@
 //! - [`voxel`]: voxel indices at resolution 32 for the DiT's RoPE-3D.
 //! - [`tokens`]: vertex order, padding, Fourier features and neighbour block for the MeshVAE.
 //! - [`extract`]: spacetime edge threshold and Algorithm 1 (edges -> faces -> repaired mesh).
+//! - [`camera`]: the viewer's orbit camera.
+//! - `viewer` (wasm32, feature `web`): the page's wgpu mesh viewer on Burn's WebGPU device.
 //! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
 //! - [`generate`]: the inference path, point cloud -> DiT sampling -> VAE decode -> mesh.
 //! - [`shipped`]: the shipped weights' manifests, and loading them from bytes with checks.
@@ -35,6 +37,7 @@
 
 pub mod augment;
 pub mod budget;
+pub mod camera;
 pub mod cards;
 pub mod clean;
 pub mod condition;
@@ -60,6 +63,8 @@ pub mod tokens;
 pub mod topology;
 #[cfg(feature = "train")]
 pub mod train;
+#[cfg(all(target_arch = "wasm32", feature = "web"))]
+pub mod viewer;
 pub mod voxel;
 #[cfg(all(target_arch = "wasm32", feature = "web"))]
 pub mod web;

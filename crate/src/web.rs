@@ -7,6 +7,7 @@
 //! back asynchronously, and waits for the GPU after every Euler step, so the page can show
 //! real progress and cancel between steps.
 
+use burn::tensor::wgpu::WgpuSetup;
 use burn::tensor::{Device, Tensor, TensorData};
 use glam::Vec3;
 use wasm_bindgen::prelude::*;
@@ -22,6 +23,7 @@ use crate::model::dit::Dit;
 use crate::model::sampler::euler_step;
 use crate::model::schedule::step_times;
 use crate::shipped::{DitManifest, VaeManifest, load_dit, load_vae};
+use crate::viewer::Viewer;
 
 #[wasm_bindgen(start)]
 fn start() {
@@ -41,12 +43,14 @@ pub struct MeshFlow {
     dit_manifest: DitManifest,
     device: Device,
     backend: String,
+    /// Burn's WebGPU instance, adapter, device and queue, shared with the viewer.
+    setup: Option<WgpuSetup>,
 }
 
-/// The WebGPU device, or why there is none.
-async fn webgpu() -> Result<Device, String> {
+/// The WebGPU device and its wgpu handles, or why there is none.
+async fn webgpu() -> Result<(Device, WgpuSetup), String> {
     Device::wgpu_options()
-        .init_async()
+        .init_with_setup_async()
         .await
         .map_err(|e| format!("no WebGPU adapter: {e}"))
 }
@@ -64,12 +68,15 @@ impl MeshFlow {
         dit_weights: Vec<u8>,
         backend: String,
     ) -> Result<MeshFlow, JsError> {
-        let (device, backend) = match backend.as_str() {
-            "webgpu" => (webgpu().await.map_err(js_error)?, "webgpu"),
-            "cpu" => (Device::flex(), "cpu"),
+        let ((device, setup), backend) = match backend.as_str() {
+            "webgpu" => {
+                let (d, s) = webgpu().await.map_err(js_error)?;
+                ((d, Some(s)), "webgpu")
+            }
+            "cpu" => ((Device::flex(), None), "cpu"),
             "auto" => match webgpu().await {
-                Ok(d) => (d, "webgpu"),
-                Err(_) => (Device::flex(), "cpu"),
+                Ok((d, s)) => ((d, Some(s)), "webgpu"),
+                Err(_) => ((Device::flex(), None), "cpu"),
             },
             other => {
                 return Err(js_error(format!(
@@ -93,7 +100,19 @@ impl MeshFlow {
             dit_manifest,
             device,
             backend: backend.into(),
+            setup,
         })
+    }
+
+    /// A wgpu viewer drawing into `canvas` (an `OffscreenCanvas`) on this model's WebGPU
+    /// device. The CPU backend has no device to share: that is an error, and the page draws
+    /// with its 2D-canvas viewer instead.
+    #[wasm_bindgen(js_name = createViewer)]
+    pub fn create_viewer(&self, canvas: web_sys::OffscreenCanvas) -> Result<Viewer, JsError> {
+        let setup = self.setup.as_ref().ok_or_else(|| {
+            js_error("the wgpu viewer needs the WebGPU backend; this model runs on the CPU")
+        })?;
+        Viewer::new(setup, canvas).map_err(js_error)
     }
 
     /// `"webgpu"` or `"cpu"`.
@@ -128,7 +147,7 @@ impl MeshFlow {
         options: String,
         on_step: Option<js_sys::Function>,
     ) -> Result<GeneratedMesh, JsError> {
-        if points.len() % 3 != 0 {
+        if !points.len().is_multiple_of(3) {
             return Err(js_error(format!(
                 "points must be x, y, z triples; got {} numbers",
                 points.len()

@@ -104,6 +104,9 @@ await check('the page loads the model on WebGPU and says so', async () => {
   const backend = await page.evaluate(() => document.body.dataset.backend);
   assert(backend === 'webgpu', `backend ${backend}`);
   assert((await page.textContent('#backend')).includes('WebGPU'), 'backend not announced');
+  // The mesh is drawn by the wgpu viewer on the model's device, in the worker.
+  await page.waitForFunction(() => document.body.dataset.viewer);
+  assert((await page.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'not the wgpu viewer');
   assert(weightRequests.length === 2, `weight downloads: ${weightRequests.length}`);
 });
 
@@ -173,8 +176,11 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
   assert((await p.evaluate(() => document.body.dataset.backend)) === 'cpu', 'not cpu');
   assert((await p.textContent('#backend')).includes('CPU'), 'fallback not announced');
+  assert((await p.evaluate(() => document.body.dataset.viewer)) === '2d', 'no WebGPU, yet not the 2D viewer');
   await p.setInputFiles('#file', FIXTURE);
   await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+  const ink = await canvasInkPixels(p);
+  assert(ink > 500, `the 2D viewer drew only ${ink} pixels of the input points`);
   await generate(p, { steps: 1 });
   await cpu.close();
 });

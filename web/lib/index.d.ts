@@ -49,11 +49,30 @@ export class GeneratedMesh {
   toObj(): string;
 }
 
+/** The wgpu mesh viewer: flat-shaded mesh, wireframe, input points, an orbit camera. */
+export interface Viewer {
+  /** x, y, z per vertex and three indices per face; fits the view. */
+  setMesh(positions: Float32Array, indices: Uint32Array): void;
+  /** The input points, shown until there is a mesh (clears the mesh). */
+  setPoints(points: Float32Array): void;
+  /** Turns the view, radians. */
+  orbit(dx: number, dy: number): void;
+  /** Pans, canvas pixels. */
+  pan(dx: number, dy: number): void;
+  /** Zooms in by factor > 1, out by factor < 1. */
+  zoom(factor: number): void;
+  fit(): void;
+  render(): void;
+  free(): void;
+}
+
 export class Model {
   readonly backend: 'webgpu' | 'cpu';
   readonly maxVertices: number;
   weightsFromCache: boolean;
   generate(points: Float32Array, options?: GenerateOptions): Promise<GeneratedMesh>;
+  /** A viewer on this model's WebGPU device; throws on the CPU backend. */
+  createViewer(canvas: OffscreenCanvas): Viewer;
 }
 
 export interface LoadOptions {

@@ -109,6 +109,14 @@ export class Model {
     return this.#inner.maxVertices;
   }
   /**
+   * A wgpu viewer drawing into `canvas` (an OffscreenCanvas, e.g. from
+   * `canvas.transferControlToOffscreen()`) on this model's WebGPU device: `setPoints`,
+   * `setMesh`, `orbit`, `pan`, `zoom`, `fit`, `render`. Throws on the CPU backend.
+   */
+  createViewer(canvas) {
+    return this.#inner.createViewer(canvas);
+  }
+  /**
    * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices`, `steps`
    * (default 28), `seed`, `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels
    * between steps and rejects).
