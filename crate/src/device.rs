@@ -1,4 +1,5 @@
-//! Where the networks run: Burn's CPU backend (flex) or, with the `wgpu` feature, burn-wgpu
+//! Where the networks run: Burn's CPU backend (flex; ndarray with the `ndarray` feature, for
+//! comparison) or, with the `wgpu` feature, burn-wgpu
 //! pinned to Vulkan (lavapipe without a GPU, NVIDIA's driver on a real one). Pinning matters:
 //! wgpu would otherwise fall back to OpenGL silently (DESIGN.md section 6).
 
@@ -12,6 +13,8 @@ pub enum BackendKind {
     Cpu,
     /// burn-wgpu over Vulkan.
     Wgpu,
+    /// Burn's ndarray backend on the CPU (feature `ndarray`; kept to measure flex against).
+    Ndarray,
 }
 
 impl BackendKind {
@@ -20,6 +23,7 @@ impl BackendKind {
         match self {
             BackendKind::Cpu => "cpu",
             BackendKind::Wgpu => "wgpu",
+            BackendKind::Ndarray => "ndarray",
         }
     }
 }
@@ -30,7 +34,20 @@ pub fn device(kind: BackendKind) -> Result<Device, String> {
     match kind {
         BackendKind::Cpu => Ok(Device::flex()),
         BackendKind::Wgpu => vulkan(),
+        BackendKind::Ndarray => ndarray(),
     }
+}
+
+/// Burn 0.22 deprecates ndarray in favour of flex; it stays reachable for the comparison.
+#[cfg(feature = "ndarray")]
+#[allow(deprecated)]
+fn ndarray() -> Result<Device, String> {
+    Ok(Device::ndarray())
+}
+
+#[cfg(not(feature = "ndarray"))]
+fn ndarray() -> Result<Device, String> {
+    Err("this build has no ndarray backend (build the CLI with `--features ndarray`)".into())
 }
 
 /// The burn-wgpu device on Vulkan. Burn's runtime can be initialised once per process, so the

@@ -60,8 +60,12 @@ pub struct TrainVaeArgs {
 
 #[derive(Clone, Copy, clap::ValueEnum)]
 pub enum Backend {
+    /// Burn's flex backend.
     Cpu,
+    /// burn-wgpu over Vulkan.
     Wgpu,
+    /// Burn's ndarray backend (a build with `--features ndarray`), for comparison with flex.
+    Ndarray,
 }
 
 impl From<Backend> for BackendKind {
@@ -69,6 +73,7 @@ impl From<Backend> for BackendKind {
         match b {
             Backend::Cpu => BackendKind::Cpu,
             Backend::Wgpu => BackendKind::Wgpu,
+            Backend::Ndarray => BackendKind::Ndarray,
         }
     }
 }
