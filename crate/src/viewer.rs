@@ -175,9 +175,7 @@ impl Viewer {
         } else {
             &self.point_positions
         };
-        let mut camera = self.camera;
-        camera.fit(scene);
-        self.camera = camera;
+        self.camera.fit(scene);
     }
 }
 
