@@ -20,11 +20,13 @@
 //! The edge list is the seam between the threshold and the rest: [`spacetime_edges`] is the CPU
 //! threshold; a GPU kernel can produce the same list and call [`extract_mesh`] directly.
 
+use std::collections::HashMap;
+
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::topology::{self, Edge, EdgeIncidence, boundary_loops, sorted_face};
+use crate::topology::{self, Edge, EdgeIncidence, boundary_loops, face_edges, sorted_face};
 
 /// The paper's edge threshold on the spacetime distance.
 pub const TAU: f32 = 0.6;
@@ -458,6 +460,16 @@ pub fn extract_mesh(
     // a third face on an edge.
     let mut existing: Vec<[u32; 3]> = faces.iter().map(|&f| sorted_face(f)).collect();
     existing.sort_unstable();
+    // Under the non-manifold filter a fan must not undo it either: a diagonal that is already
+    // an edge of the mesh (or of an earlier fan) would get a third face.
+    let mut faces_on_edge: HashMap<Edge, u32> = HashMap::new();
+    if opts.drop_non_manifold {
+        for f in &faces {
+            for e in face_edges(*f) {
+                *faces_on_edge.entry(e).or_default() += 1;
+            }
+        }
+    }
     for lp in boundary_loops(&faces) {
         let fan: Vec<[u32; 3]> = (1..lp.len() - 1)
             .map(|k| [lp[0], lp[k], lp[k + 1]])
@@ -465,9 +477,22 @@ pub fn extract_mesh(
         let repeats_a_face = fan
             .iter()
             .any(|&t| existing.binary_search(&sorted_face(t)).is_ok());
-        if opts.fill_holes && lp.len() <= opts.max_hole_edges && !repeats_a_face {
+        let mut added: HashMap<Edge, u32> = HashMap::new();
+        if opts.drop_non_manifold {
+            for e in fan.iter().flat_map(|&t| face_edges(t)) {
+                *added.entry(e).or_default() += 1;
+            }
+        }
+        let breaks_manifold = added
+            .iter()
+            .any(|(e, n)| faces_on_edge.get(e).copied().unwrap_or(0) + n > 2);
+        if opts.fill_holes && lp.len() <= opts.max_hole_edges && !repeats_a_face && !breaks_manifold
+        {
             report.holes_filled += 1;
             report.hole_faces += fan.len();
+            for (e, n) in added {
+                *faces_on_edge.entry(e).or_default() += n;
+            }
             faces.extend(fan.into_iter().map(|t| orient_face(t, positions, &normals)));
         } else {
             report.holes_left += 1;

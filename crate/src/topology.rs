@@ -14,6 +14,11 @@ fn sorted(a: u32, b: u32) -> Edge {
     if a < b { [a, b] } else { [b, a] }
 }
 
+/// The three undirected edges of a triangle.
+pub fn face_edges([a, b, c]: [u32; 3]) -> [Edge; 3] {
+    [sorted(a, b), sorted(b, c), sorted(c, a)]
+}
+
 /// One face's use of an undirected edge: which face, and whether the face walks the edge from
 /// its smaller to its larger vertex (`forward`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -99,14 +99,20 @@ proptest! {
 
     #[test]
     fn non_manifold_filter_leaves_no_non_manifold_edge(
-        n in 4usize..40, extra in 0usize..80, seed in any::<u64>()
+        n in 4usize..40, extra in 0usize..80, max_hole in 0usize..12, seed in any::<u64>()
     ) {
         // A random point set with random edges: plenty of non-manifold cliques.
         let mut rng = Rng::new(seed);
         let positions: Vec<Vec3> = (0..n).map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())).collect();
         let normals: Vec<Vec3> = (0..n).map(|_| Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, 1.0).normalize()).collect();
         let e: Vec<[u32; 2]> = (0..extra + n).map(|_| [rng.below(n) as u32, rng.below(n) as u32]).collect();
-        let opts = ExtractOptions { drop_non_manifold: true, fill_holes: false, ..Default::default() };
+        // Hole repair runs after the filter and must not give an edge a third face either.
+        let opts = ExtractOptions {
+            drop_non_manifold: true,
+            fill_holes: max_hole >= 3,
+            max_hole_edges: max_hole,
+            ..Default::default()
+        };
         let (out, _) = extract_mesh(&positions, &normals, &e, FaceSupport::Geometric, &opts).unwrap();
         prop_assert_eq!(TopologyReport::of(&out).non_manifold_edges, 0);
     }

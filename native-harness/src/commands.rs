@@ -16,6 +16,7 @@ use meshflow::{Mesh, mesh::Aabb};
 use serde::Serialize;
 
 use crate::BadInput;
+use crate::extract_args::ExtractArgs;
 use crate::progress::step;
 
 fn read(path: &Path) -> Result<Mesh> {
@@ -197,8 +198,7 @@ struct RoundTrip {
 pub fn extract(
     mesh_path: &Path,
     output: Option<&Path>,
-    max_hole_edges: usize,
-    drop_non_manifold: bool,
+    extract: &ExtractArgs,
     json: bool,
 ) -> Result<()> {
     let mesh = read(mesh_path)?;
@@ -224,12 +224,10 @@ pub fn extract(
         .collect();
     let token_normals: Vec<_> = order.iter().map(|&v| normals[v as usize]).collect();
     let edges = token_edges(&model_frame.faces, &order);
+    // Keep every token (no compaction) so the report can compare with the source's faces.
     let opts = ExtractOptions {
-        fill_holes: max_hole_edges >= 3,
-        max_hole_edges,
-        drop_non_manifold,
         compact: false,
-        ..Default::default()
+        ..extract.options()
     };
     let (out, extract_report) = extract_mesh(
         &token_positions,

@@ -12,7 +12,6 @@ use meshflow::Mesh;
 use meshflow::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use meshflow::burn::tensor::Device;
 use meshflow::device::{BackendKind, device};
-use meshflow::extract::ExtractOptions;
 use meshflow::generate::{
     CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, input_points,
 };
@@ -25,6 +24,7 @@ use meshflow::sample::sample_surface;
 use serde::Serialize;
 
 use crate::BadInput;
+use crate::extract_args::ExtractArgs;
 use crate::train::{Backend, load_weights, read_shipped};
 use crate::vae_eval::{DEFAULT_WEIGHTS, EvalSetArgs, SurfaceSummary, eval_meshes};
 use meshflow::shipped::{DitManifest, VaeManifest};
@@ -60,9 +60,8 @@ pub struct SamplingArgs {
     seed: u64,
     #[arg(long, value_enum, default_value = "to-zero")]
     schedule: Schedule,
-    /// Fill boundary loops of at most this many edges (0 = no hole repair).
-    #[arg(long, default_value_t = 4)]
-    max_hole_edges: usize,
+    #[command(flatten)]
+    extract: ExtractArgs,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
 }
@@ -74,11 +73,7 @@ impl SamplingArgs {
             steps: self.steps,
             seed: self.seed,
             schedule: self.schedule.into(),
-            extract: ExtractOptions {
-                fill_holes: self.max_hole_edges > 0,
-                max_hole_edges: self.max_hole_edges,
-                ..Default::default()
-            },
+            extract: self.extract.options(),
         }
     }
 }
@@ -408,7 +403,8 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
             &models.vae,
             vcfg,
             &gts,
-            &ExtractOptions::default(),
+            // The upper bound extracts exactly as our meshes do.
+            &base_opts.extract,
             &compare,
             &dev,
         )

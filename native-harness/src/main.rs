@@ -6,6 +6,7 @@
 mod bench;
 mod commands;
 mod data;
+mod extract_args;
 mod generate;
 mod plot;
 mod progress;
@@ -81,12 +82,8 @@ enum Command {
         /// Write the extracted mesh here.
         #[arg(short, long)]
         output: Option<PathBuf>,
-        /// Fill boundary loops of at most this many edges (0 = no hole repair).
-        #[arg(long, default_value_t = 4)]
-        max_hole_edges: usize,
-        /// Drop faces that would make an edge non-manifold.
-        #[arg(long)]
-        drop_non_manifold: bool,
+        #[command(flatten)]
+        extract: extract_args::ExtractArgs,
         #[arg(long)]
         json: bool,
     },
@@ -239,16 +236,9 @@ fn main() -> ExitCode {
         Command::Extract {
             mesh,
             output,
-            max_hole_edges,
-            drop_non_manifold,
+            extract,
             json,
-        } => commands::extract(
-            &mesh,
-            output.as_deref(),
-            max_hole_edges,
-            drop_non_manifold,
-            json,
-        ),
+        } => commands::extract(&mesh, output.as_deref(), &extract, json),
         Command::Data { which } => match which {
             DataCommand::Fetch { cache } => data::fetch(&cache.unwrap_or_else(data::default_cache)),
             DataCommand::Build {

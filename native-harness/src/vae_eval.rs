@@ -9,12 +9,12 @@ use clap::Args;
 use meshflow::Mesh;
 use meshflow::dataset::Split;
 use meshflow::device::{BackendKind, device};
-use meshflow::extract::ExtractOptions;
 use meshflow::metrics::{CompareOptions, Comparison};
 use meshflow::reconstruct::{ReconstructionMetrics, prepare, reconstruct_batch};
 use serde::Serialize;
 
 use crate::BadInput;
+use crate::extract_args::ExtractArgs;
 use crate::train::{Backend, load_split, load_weights};
 
 /// Where the shipped weights live, relative to the repository root.
@@ -31,6 +31,8 @@ pub struct ReconstructArgs {
     weights: PathBuf,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
+    #[command(flatten)]
+    extract: ExtractArgs,
     #[arg(long)]
     json: bool,
 }
@@ -80,6 +82,8 @@ pub struct EvalVaeArgs {
     meshes: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
+    #[command(flatten)]
+    extract: ExtractArgs,
 }
 
 pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
@@ -102,7 +106,7 @@ pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
         &vae,
         &manifest.model,
         &[model_frame],
-        &ExtractOptions::default(),
+        &args.extract.options(),
         &CompareOptions::default(),
         &device,
     )
@@ -351,40 +355,46 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     if let Some(dir) = &args.meshes {
         fs::create_dir_all(dir)?;
     }
+    let opts = args.extract.options();
     let bar = indicatif::ProgressBar::new(meshes.len() as u64);
     let mut per_mesh = Vec::new();
-    for chunk in meshes.chunks(8) {
+    // Files are named by position in the split, so a skipped mesh leaves a gap, not a shift.
+    let mut keep =
+        |index: usize, name: &str, r: meshflow::reconstruct::Reconstruction| -> Result<()> {
+            if let Some(dir) = &args.meshes {
+                meshflow::io::write_path(&r.mesh, &dir.join(format!("{index}.glb")))?;
+            }
+            per_mesh.push((name.to_owned(), r.metrics));
+            Ok(())
+        };
+    for (c, chunk) in meshes.chunks(8).enumerate() {
         let batch: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
         match reconstruct_batch(
             &vae,
             cfg,
             &batch,
-            &ExtractOptions::default(),
+            &opts,
             &CompareOptions::default(),
             &device,
         ) {
             Ok(results) => {
-                for ((name, _), r) in chunk.iter().zip(results) {
-                    if let Some(dir) = &args.meshes {
-                        let file = dir.join(format!("{}.glb", per_mesh.len()));
-                        meshflow::io::write_path(&r.mesh, &file)?;
-                    }
-                    per_mesh.push((name.clone(), r.metrics));
+                for (k, ((name, _), r)) in chunk.iter().zip(results).enumerate() {
+                    keep(c * 8 + k, name, r)?;
                 }
             }
             // A batch fails as a whole (e.g. an extracted mesh with no faces to sample);
             // retry its meshes one by one so only the bad one is skipped.
             Err(_) => {
-                for (name, m) in chunk {
+                for (k, (name, m)) in chunk.iter().enumerate() {
                     match reconstruct_batch(
                         &vae,
                         cfg,
                         std::slice::from_ref(m),
-                        &ExtractOptions::default(),
+                        &opts,
                         &CompareOptions::default(),
                         &device,
                     ) {
-                        Ok(mut r) => per_mesh.push((name.clone(), r.remove(0).metrics)),
+                        Ok(mut r) => keep(c * 8 + k, name, r.remove(0))?,
                         Err(e) => skipped.push(format!("{name}: {e}")),
                     }
                 }

@@ -402,6 +402,27 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     );
     let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
     assert!(back["faces"].as_u64().unwrap() > 0);
+
+    // The non-manifold filter (without hole repair, which may add a third face to an edge)
+    // leaves every edge with at most two faces, and only ever removes faces.
+    let filtered = json(&meshflow(&[
+        "reconstruct",
+        lantern.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        weights.to_str().unwrap(),
+        "--drop-non-manifold",
+        "--max-hole-edges",
+        "0",
+        "--json",
+    ]));
+    let topology = &filtered["comparison"]["pred_topology"];
+    assert_eq!(topology["non_manifold_edges"], 0, "{topology}");
+    assert!(
+        filtered["extract"]["faces"].as_u64().unwrap()
+            <= report["extract"]["clique_faces"].as_u64().unwrap()
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 
