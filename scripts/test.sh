@@ -12,6 +12,9 @@
 #   cargo test --release --workspace --doc (--all-targets leaves doctests out)
 #   cargo clippy --workspace --all-targets -- -D warnings
 #   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
+#   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web
+#                --profile wasm-release -- -D warnings
+#                                          (the wasm-only code: web.rs, viewer.rs)
 #   node tests/e2e/browser.test.mjs        (the page and the npm package in
 #                                           headless Chromium over SwiftShader)
 # Each step prints its time; the last line is a plain
@@ -126,6 +129,12 @@ check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 
 build_web() { bash scripts/build-web.sh; }
 
+# The wasm-only modules are invisible to the native clippy run above.
+check_clippy_wasm() {
+    cargo clippy --target wasm32-unknown-unknown -p meshflow --features web \
+        --profile wasm-release -- -D warnings
+}
+
 run_browser_tests() { node tests/e2e/browser.test.mjs 2>&1 | tee "$LOG_DIR/browser.log"; }
 
 # ---- driver ----------------------------------------------------------------
@@ -195,6 +204,7 @@ main() {
     run_step doctest run_doctests
     run_step clippy check_clippy
     run_step web build_web
+    run_step clippy-wasm check_clippy_wasm
     run_step browser run_browser_tests
     print_summary
 }

@@ -199,7 +199,14 @@ $('generate').addEventListener('click', () => {
   setRunning(true);
   const copy = points.slice();
   worker.postMessage(
-    { type: 'generate', points: copy, vertices: num('vertices'), steps: num('steps'), seed: num('seed') },
+    {
+      type: 'generate',
+      points: copy,
+      vertices: num('vertices'),
+      steps: num('steps'),
+      seed: num('seed'),
+      dropNonManifold: $('drop-non-manifold').checked,
+    },
     [copy.buffer],
   );
 });

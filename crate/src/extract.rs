@@ -33,6 +33,7 @@ pub const TAU: f32 = 0.6;
 
 /// Options of [`extract_mesh`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
 pub struct ExtractOptions {
     /// Spacetime-distance threshold: an edge iff d > tau.
     pub tau: f32,
@@ -714,6 +715,22 @@ mod tests {
     use super::*;
     use crate::primitives::{grid, icosphere, octahedron};
     use crate::topology::{TopologyReport, edges, rotate_min_first};
+
+    /// The web API passes options as JSON: a partial object takes the defaults for the rest,
+    /// and a misspelt field is an error rather than silently ignored.
+    #[test]
+    fn options_from_partial_json() {
+        let opts: ExtractOptions = serde_json::from_str(r#"{"drop_non_manifold": true}"#).unwrap();
+        assert_eq!(
+            opts,
+            ExtractOptions {
+                drop_non_manifold: true,
+                ..Default::default()
+            }
+        );
+        let err = serde_json::from_str::<ExtractOptions>(r#"{"drop_nonmanifold": true}"#);
+        assert!(err.unwrap_err().to_string().contains("unknown field"));
+    }
 
     fn area_weighted_normals(m: &Mesh) -> Vec<Vec3> {
         crate::normals::vertex_normals(&m.positions, &m.faces)

@@ -233,6 +233,11 @@ await check('the npm package imports and generates the way a user would', async 
          const model = await loadModel({ backend });
          const mesh = await model.generate(points, options);
          window.__glbs[backend] = Array.from(mesh.toGlb());
+         if (backend === 'cpu') {
+           const filtered = await model.generate(points, { ...options, dropNonManifold: true });
+           window.__filtered = { faces: filtered.indices.length / 3, plain: mesh.indices.length / 3,
+             nonManifold: filtered.report.topology.non_manifold_edges };
+         }
        }
        document.body.dataset.done = 'ok';
      } catch (e) {
@@ -262,10 +267,14 @@ await check('the npm package imports and generates the way a user would', async 
   const done = await p.evaluate(() => document.body.dataset.done);
   assert(done === 'ok', `the package threw: ${done}`);
   const glbs = await p.evaluate(() => window.__glbs);
+  const filtered = await p.evaluate(() => window.__filtered);
   await b.close();
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
   assert(wasmMeshes.webgpu.indices.length > 0, 'the WebGPU mesh has no faces');
+  // The option reaches extraction: no edge with a third face (and the greedy filter always
+  // keeps the best face, so a mesh with faces keeps some).
+  assert(filtered.nonManifold === 0 && (filtered.faces > 0) === (filtered.plain > 0), `dropNonManifold: ${JSON.stringify(filtered)}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

@@ -34,6 +34,11 @@ export interface GenerateOptions {
   /** Euler steps, default 28. */
   steps?: number;
   seed?: number;
+  /**
+   * Drop faces that would give an edge a third face, keeping the ones the model is surest of
+   * (not in the paper's Algorithm 1; default false). Fewer overlapping faces, more holes.
+   */
+  dropNonManifold?: boolean;
   /** Called after each step has finished on the device. */
   onStep?: (step: number, steps: number) => void;
   /** Aborting cancels between steps; the promise then rejects. */

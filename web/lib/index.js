@@ -118,11 +118,12 @@ export class Model {
   }
   /**
    * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices`, `steps`
-   * (default 28), `seed`, `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels
-   * between steps and rejects).
+   * (default 28), `seed`, `dropNonManifold` (keep at most two faces per edge), `onStep(step,
+   * steps)`, `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
-  async generate(points, { vertices, steps, seed, onStep, signal } = {}) {
-    const options = JSON.stringify({ vertices, steps, seed });
+  async generate(points, { vertices, steps, seed, dropNonManifold, onStep, signal } = {}) {
+    const extract = dropNonManifold ? { drop_non_manifold: true } : undefined;
+    const options = JSON.stringify({ vertices, steps, seed, extract });
     const inner = await this.#inner.generate(points, options, (i, n) => {
       onStep?.(i, n);
       return !signal?.aborted;
