@@ -347,6 +347,9 @@ fn split_meshes(
     Ok((kept, skipped, source))
 }
 
+/// Meshes per reconstruction batch in `eval vae`.
+const BATCH: usize = 8;
+
 pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
     let (vae, manifest) = load_weights(&args.weights, &device)?;
@@ -367,7 +370,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
             per_mesh.push((name.to_owned(), r.metrics));
             Ok(())
         };
-    for (c, chunk) in meshes.chunks(8).enumerate() {
+    for (c, chunk) in meshes.chunks(BATCH).enumerate() {
         let batch: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
         match reconstruct_batch(
             &vae,
@@ -379,7 +382,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         ) {
             Ok(results) => {
                 for (k, ((name, _), r)) in chunk.iter().zip(results).enumerate() {
-                    keep(c * 8 + k, name, r)?;
+                    keep(c * BATCH + k, name, r)?;
                 }
             }
             // A batch fails as a whole (e.g. an extracted mesh with no faces to sample);
@@ -394,7 +397,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
                         &CompareOptions::default(),
                         &device,
                     ) {
-                        Ok(mut r) => keep(c * 8 + k, name, r.remove(0))?,
+                        Ok(mut r) => keep(c * BATCH + k, name, r.remove(0))?,
                         Err(e) => skipped.push(format!("{name}: {e}")),
                     }
                 }

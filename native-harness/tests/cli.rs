@@ -376,15 +376,20 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     let dir = temp_dir("shipped");
     let glb = dir.join("lantern.glb");
     let lantern = fixture("meshes/stone_lantern.obj");
-    let report = json(&meshflow(&[
-        "reconstruct",
-        lantern.to_str().unwrap(),
-        "-o",
-        glb.to_str().unwrap(),
-        "--weights",
-        weights.to_str().unwrap(),
-        "--json",
-    ]));
+    let reconstruct = |extra: &[&str]| {
+        let mut args = vec![
+            "reconstruct",
+            lantern.to_str().unwrap(),
+            "-o",
+            glb.to_str().unwrap(),
+            "--weights",
+            weights.to_str().unwrap(),
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        json(&meshflow(&args))
+    };
+    let report = reconstruct(&[]);
     assert_eq!(report["vertices"], 356);
     // Figures are whatever the shipped weights reach (BENCHMARKS.md); here: they load, pass
     // their sha256 check, run, and give a mesh with faces and finite distances.
@@ -403,20 +408,9 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
     assert!(back["faces"].as_u64().unwrap() > 0);
 
-    // The non-manifold filter (without hole repair, which may add a third face to an edge)
-    // leaves every edge with at most two faces, and only ever removes faces.
-    let filtered = json(&meshflow(&[
-        "reconstruct",
-        lantern.to_str().unwrap(),
-        "-o",
-        glb.to_str().unwrap(),
-        "--weights",
-        weights.to_str().unwrap(),
-        "--drop-non-manifold",
-        "--max-hole-edges",
-        "0",
-        "--json",
-    ]));
+    // The non-manifold filter leaves every edge with at most two faces; without hole repair
+    // (which adds faces) it only ever removes the clique faces.
+    let filtered = reconstruct(&["--drop-non-manifold", "--max-hole-edges", "0"]);
     let topology = &filtered["comparison"]["pred_topology"];
     assert_eq!(topology["non_manifold_edges"], 0, "{topology}");
     assert!(
