@@ -160,14 +160,17 @@ pub struct Generator<'a> {
 
 struct Conditioned {
     to_input: Normalization,
+    /// The input in the model frame, where the token positions are drawn.
+    model_points: Vec<Vec3>,
     budget: usize,
     features: ShapeFeatures,
-    positions: Vec<[f32; 3]>,
 }
 
 /// A batch after conditioning: the sampler's inputs, and what extraction needs afterwards.
 pub struct Prepared {
     conditioned: Vec<Conditioned>,
+    /// Vertex slots per row of the decoded outputs (N, or the batch's length bucket).
+    pub slots: usize,
     /// `[B, L, D]` seeded noise at t = 1 (row `k` from `seed + k`).
     pub noise: Tensor<3>,
     /// `[B, 1]` vertex-count conditions.
@@ -210,11 +213,13 @@ pub enum HostEdges {
 
 impl Generator<'_> {
     /// Generates one mesh per input point set (input frame, e.g. from [`input_points`]), in
-    /// one batch: every input gets the same steps and options, and its own seeded noise
-    /// (`seed + index`). `on_step(step, steps)` runs after every Euler step; returning false
-    /// cancels. Reads back synchronously (native); the browser drives the same stages
-    /// ([`Self::prepare`], [`euler_step`](crate::model::sampler::euler_step),
-    /// [`Self::decode`], [`Self::extract`]) with asynchronous readback.
+    /// one batch per length bucket (one batch without length buckets): every input gets the
+    /// same steps and options, and its own seeded noise (`seed + index`), so its mesh does not
+    /// depend on the rest of the batch. `on_step(step, steps)` runs after every Euler step
+    /// (of each bucket's batch); returning false cancels. Reads back synchronously (native);
+    /// the browser drives the same stages ([`Self::prepare`],
+    /// [`euler_step`](crate::model::sampler::euler_step), [`Self::decode`],
+    /// [`Self::extract`]) with asynchronous readback.
     pub fn generate(
         &self,
         inputs: &[Vec<Vec3>],
@@ -224,7 +229,46 @@ impl Generator<'_> {
         if inputs.is_empty() {
             return Ok(Vec::new());
         }
-        let mut prepared = self.prepare(inputs, opts)?;
+        let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
+        let slots = inputs
+            .iter()
+            .zip(&seeds)
+            .map(|(points, &seed)| {
+                let budget = self.condition(points, opts, seed)?.budget;
+                Ok(self.vae_config.slots_for(budget))
+            })
+            .collect::<Result<Vec<usize>, GenerateError>>()?;
+        let mut lengths = slots.clone();
+        lengths.sort_unstable();
+        lengths.dedup();
+        if lengths.len() == 1 {
+            return self.generate_batch(inputs, &seeds, opts, on_step);
+        }
+        let mut out: Vec<Option<Generated>> = (0..inputs.len()).map(|_| None).collect();
+        for len in lengths {
+            let members: Vec<usize> = (0..inputs.len()).filter(|&k| slots[k] == len).collect();
+            let group: Vec<Vec<Vec3>> = members.iter().map(|&k| inputs[k].clone()).collect();
+            let group_seeds: Vec<u64> = members.iter().map(|&k| seeds[k]).collect();
+            let done = self.generate_batch(&group, &group_seeds, opts, on_step)?;
+            for (k, g) in members.into_iter().zip(done) {
+                out[k] = Some(g);
+            }
+        }
+        Ok(out
+            .into_iter()
+            .map(|g| g.expect("every input is in one group"))
+            .collect())
+    }
+
+    /// [`Self::generate`] for inputs that share one length, input `k` seeded by `seeds[k]`.
+    fn generate_batch(
+        &self,
+        inputs: &[Vec<Vec3>],
+        seeds: &[u64],
+        opts: &GenerateOptions,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
+        let mut prepared = self.prepare_seeded(inputs, seeds, opts)?;
         let started = Instant::now();
         let latents = sample(
             self.dit,
@@ -255,10 +299,23 @@ impl Generator<'_> {
     }
 
     /// Stage 1: checks the models fit together, conditions every input (model frame, budget,
-    /// RoPE positions) and draws the noise. No input at all is [`GenerateError::NoPoints`].
+    /// RoPE positions) and draws the noise (input `k` seeded by `seed + k`). No input at all
+    /// is [`GenerateError::NoPoints`]. With length buckets the batch takes the bucket of its
+    /// largest budget; [`Self::generate`] splits batches by bucket first.
     pub fn prepare(
         &self,
         inputs: &[Vec<Vec3>],
+        opts: &GenerateOptions,
+    ) -> Result<Prepared, GenerateError> {
+        let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
+        self.prepare_seeded(inputs, &seeds, opts)
+    }
+
+    /// [`Self::prepare`] with input `k` seeded by `seeds[k]`.
+    fn prepare_seeded(
+        &self,
+        inputs: &[Vec<Vec3>],
+        seeds: &[u64],
         opts: &GenerateOptions,
     ) -> Result<Prepared, GenerateError> {
         let started = Instant::now();
@@ -278,23 +335,39 @@ impl Generator<'_> {
         }
         let conditioned = inputs
             .iter()
-            .enumerate()
-            .map(|(k, points)| self.condition(points, opts, opts.seed + k as u64))
+            .zip(seeds)
+            .map(|(points, &seed)| self.condition(points, opts, seed))
             .collect::<Result<Vec<_>, _>>()?;
         let b = inputs.len();
+        let slots = conditioned
+            .iter()
+            .map(|c| vae.slots_for(c.budget))
+            .max()
+            .unwrap_or(vae.num_vertices);
+        let l_used = slots / vae.merge_ratio();
         let positions: Vec<[f32; 3]> = conditioned
             .iter()
-            .flat_map(|c| c.positions.iter().copied())
+            .enumerate()
+            .flat_map(|(k, c)| {
+                inference_positions(
+                    &c.model_points,
+                    c.budget,
+                    l_used,
+                    vae.merge_ratio(),
+                    seeds[k],
+                )
+            })
             .collect();
         let cond: Vec<f32> = conditioned
             .iter()
             .map(|c| vertex_condition(c.budget, l))
             .collect();
         let noise: Vec<Tensor<3>> = (0..b)
-            .map(|k| normal_noise(&mut Rng::new(opts.seed + k as u64), [1, l, d], self.device))
+            .map(|k| normal_noise(&mut Rng::new(seeds[k]), [1, l_used, d], self.device))
             .collect();
         Ok(Prepared {
             conditioned,
+            slots,
             noise: Tensor::cat(noise, 0),
             cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
             rope: Rope::new(&positions, b, dit.width / dit.num_heads, self.device),
@@ -336,7 +409,7 @@ impl Generator<'_> {
         extract: &ExtractOptions,
     ) -> Result<Vec<Generated>, GenerateError> {
         let started = Instant::now();
-        let (n, e) = (self.vae_config.num_vertices, self.vae_config.edge_dim);
+        let (n, e) = (prepared.slots, self.vae_config.edge_dim);
         let words = n.div_ceil(32);
         let mut meshes = Vec::with_capacity(prepared.conditioned.len());
         for (k, c) in prepared.conditioned.iter().enumerate() {
@@ -393,18 +466,11 @@ impl Generator<'_> {
             Some(v) => v,
             None => self.budget_rule.budget(&features, max),
         };
-        let positions = inference_positions(
-            &model_points,
-            budget,
-            vae.num_latents,
-            vae.merge_ratio(),
-            seed,
-        );
         Ok(Conditioned {
             to_input,
+            model_points,
             budget,
             features,
-            positions,
         })
     }
 }

@@ -100,16 +100,40 @@ pub fn reconstruct_batch(
     if meshes.is_empty() {
         return Ok(Vec::new());
     }
+    // With length buckets a forward pass holds one length: split the batch by slot count and
+    // put the results back in input order.
+    let slots: Vec<usize> = meshes
+        .iter()
+        .map(|m| cfg.slots_for(m.positions.len()))
+        .collect();
+    if slots.iter().any(|&s| s != slots[0]) {
+        let mut results: Vec<Option<Reconstruction>> = (0..meshes.len()).map(|_| None).collect();
+        let mut lengths = slots.clone();
+        lengths.sort_unstable();
+        lengths.dedup();
+        for len in lengths {
+            let members: Vec<usize> = (0..meshes.len()).filter(|&i| slots[i] == len).collect();
+            let group: Vec<Mesh> = members.iter().map(|&i| meshes[i].clone()).collect();
+            let done = reconstruct_batch(vae, cfg, &group, extract, compare, device)?;
+            for (i, r) in members.into_iter().zip(done) {
+                results[i] = Some(r);
+            }
+        }
+        return Ok(results
+            .into_iter()
+            .map(|r| r.expect("every mesh is in one group"))
+            .collect());
+    }
     let tokens: Vec<VertexTokens> = meshes
         .iter()
         .map(|m| {
             if m.faces.is_empty() {
                 return Err(ReconstructError::NoFaces);
             }
-            Ok(build_tokens(m, &cfg.tokens(), 0)?)
+            Ok(build_tokens(m, &cfg.tokens_for(m.positions.len()), 0)?)
         })
         .collect::<Result<_, _>>()?;
-    let (b, n, c) = (tokens.len(), cfg.num_vertices, cfg.in_channels());
+    let (b, n, c) = (tokens.len(), slots[0], cfg.in_channels());
     let features: Vec<f32> = tokens
         .iter()
         .flat_map(|t| t.features.iter().copied())

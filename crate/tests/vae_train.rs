@@ -1,5 +1,6 @@
-//! MeshVAE training on the CPU backend: a small model overfits a few meshes to edge F1 >= 0.99,
-//! and a run stopped at a checkpoint and resumed ends with exactly the same weights.
+//! MeshVAE training on the CPU backend: a small model overfits a few meshes to edge F1 >= 0.99;
+//! a run stopped at a checkpoint, or killed after one, resumes to exactly the same weights and
+//! metrics; length buckets batch meshes of one length; bad configurations fail before a step.
 #![cfg(feature = "train")]
 
 use std::path::PathBuf;
@@ -10,7 +11,7 @@ use meshflow::model::{MeshVae, VaeConfig, load_module};
 use meshflow::normalize::Normalization;
 use meshflow::primitives::{cube, grid, icosphere, octahedron};
 use meshflow::train::TrainObserver;
-use meshflow::train::vae::{VaeTrainConfig, train_vae, validate};
+use meshflow::train::vae::{VaeTrainConfig, epoch_batches, train_vae, validate};
 
 fn model_frame(m: Mesh) -> Mesh {
     Normalization::to_model_frame(m.aabb().unwrap()).apply_mesh(&m)
@@ -37,6 +38,7 @@ fn small_config(steps: usize) -> VaeTrainConfig {
         num_freqs: 6,
         edge_dim: 32,
         tau: 0.6,
+        length_buckets: false,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 4;
@@ -116,14 +118,15 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     };
     let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
 
-    // Stop after step 8 (a checkpoint), then start again in the same folder.
+    // Stop after step 7 (between scheduled checkpoints: the stop writes one), then start
+    // again in the same folder.
     let resumed = temp_dir("resumed");
     let mut stopping = Quiet {
-        stop_at: Some(8),
+        stop_at: Some(7),
         last: 0,
     };
     let partial = train_vae(&cfg, &data, &data, &resumed, &device, &mut stopping).unwrap();
-    assert_eq!(partial.steps, 8);
+    assert_eq!(partial.steps, 7);
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
@@ -141,4 +144,143 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     assert!(train_vae(&other, &data, &data, &resumed, &device, &mut quiet).is_err());
     let _ = std::fs::remove_dir_all(&straight);
     let _ = std::fs::remove_dir_all(&resumed);
+}
+
+/// The per-step loss lines of a run's metrics log, without the wall-clock fields.
+fn step_losses(dir: &std::path::Path) -> Vec<String> {
+    std::fs::read_to_string(dir.join("metrics.jsonl"))
+        .unwrap()
+        .lines()
+        .filter_map(|l| {
+            let mut v: serde_json::Value = serde_json::from_str(l).unwrap();
+            let o = v.as_object_mut()?;
+            o.get("loss")?;
+            o.remove("meshes_per_s");
+            o.remove("elapsed_s");
+            Some(v.to_string())
+        })
+        .collect()
+}
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
+
+#[test]
+fn a_run_killed_after_a_checkpoint_resumes_with_the_same_metrics_and_weights() {
+    let device = Device::flex();
+    let mut cfg = small_config(12);
+    cfg.augment = true;
+    cfg.checkpoint_every = 4;
+    cfg.ema_decay = Some(0.9);
+    cfg.model.length_buckets = true;
+    let data = meshes();
+
+    let straight = temp_dir("kill-straight");
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
+
+    // Run to the step-8 checkpoint and keep a copy of it; run on to step 10, then put the
+    // step-8 checkpoint back: the state a kill at step 10 leaves (log ahead of checkpoint).
+    let killed = temp_dir("kill-resumed");
+    let saved = temp_dir("kill-saved");
+    let mut stopping = Quiet {
+        stop_at: Some(8),
+        last: 0,
+    };
+    train_vae(&cfg, &data, &data, &killed, &device, &mut stopping).unwrap();
+    copy_dir(&killed.join("checkpoint"), &saved);
+    let mut stopping = Quiet {
+        stop_at: Some(10),
+        last: 0,
+    };
+    train_vae(&cfg, &data, &data, &killed, &device, &mut stopping).unwrap();
+    std::fs::remove_dir_all(killed.join("checkpoint")).unwrap();
+    copy_dir(&saved, &killed.join("checkpoint"));
+    let b = train_vae(&cfg, &data, &data, &killed, &device, &mut quiet).unwrap();
+
+    assert_eq!(a.weights, b.weights, "same weights as the unbroken run");
+    let (la, lb) = (step_losses(&straight), step_losses(&killed));
+    assert_eq!(la.len(), 12);
+    assert_eq!(
+        la, lb,
+        "same per-step metrics as the unbroken run, each step once"
+    );
+    for d in [&straight, &killed, &saved] {
+        let _ = std::fs::remove_dir_all(d);
+    }
+}
+
+#[test]
+fn length_buckets_batch_meshes_of_one_length_and_cover_each_epoch() {
+    let mut cfg = small_config(1);
+    cfg.model.length_buckets = true;
+    cfg.batch_size = 3;
+    // Slots for N = 64, r = 4: 8, 16, 32, 64.
+    let counts = [6, 8, 9, 16, 17, 25, 33, 42, 64, 5, 7, 30];
+    for (count, slots) in [(1, 8), (8, 8), (9, 16), (17, 32), (33, 64), (64, 64)] {
+        assert_eq!(cfg.model.slots_for(count), slots, "{count} vertices");
+    }
+    for epoch in 0..3 {
+        let batches = epoch_batches(&counts, &cfg, epoch);
+        assert_eq!(batches, epoch_batches(&counts, &cfg, epoch), "seeded");
+        let mut seen: Vec<usize> = batches.iter().flatten().copied().collect();
+        seen.sort_unstable();
+        assert_eq!(
+            seen,
+            (0..counts.len()).collect::<Vec<_>>(),
+            "each mesh once"
+        );
+        for b in &batches {
+            assert!(!b.is_empty() && b.len() <= 3);
+            let slots = cfg.model.slots_for(counts[b[0]]);
+            assert!(b.iter().all(|&i| cfg.model.slots_for(counts[i]) == slots));
+        }
+    }
+    cfg.model.length_buckets = false;
+    assert_eq!(
+        cfg.model.slots_for(5),
+        64,
+        "without buckets every mesh takes N slots"
+    );
+}
+
+#[test]
+fn bad_configurations_fail_before_any_step_naming_the_field() {
+    let device = Device::flex();
+    let data = meshes();
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let mut json: serde_json::Value = serde_json::to_value(small_config(5)).unwrap();
+    json["learning_rat"] = 0.1.into();
+    let err = serde_json::from_value::<VaeTrainConfig>(json).unwrap_err();
+    assert!(err.to_string().contains("learning_rat"), "{err}");
+
+    type Spoil = fn(&mut VaeTrainConfig);
+    let cases: [(&str, Spoil); 4] = [
+        ("latent_dim", |c| c.model.latent_dim = 0),
+        ("num_latents", |c| c.model.num_latents = 48),
+        ("batch_size", |c| c.batch_size = 0),
+        ("learning_rate", |c| c.learning_rate = f64::NAN),
+    ];
+    for (field, spoil) in cases {
+        let mut cfg = small_config(5);
+        spoil(&mut cfg);
+        let dir = temp_dir(&format!("bad-{field}"));
+        let err = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet)
+            .err()
+            .unwrap_or_else(|| panic!("{field}: accepted"));
+        assert!(err.to_string().contains(field), "{field}: {err}");
+        assert!(!dir.join("metrics.jsonl").exists(), "{field}: no step ran");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
 }

@@ -25,6 +25,10 @@ pub enum BenchCommand {
     /// The whole generation (condition, sample, decode, extract) with the shipped models on
     /// a point cloud, repeated; median per-stage times.
     Generate(crate::generate::BenchGenerateArgs),
+    /// One MeshVAE training step on the CPU, part by part (data, encoder, decoder, losses,
+    /// pairwise adjacency, backward, optimiser, EMA), with matrix-product FLOP/s against the
+    /// CPU backend's measured matmul peak.
+    TrainVae(crate::train::BenchTrainVaeArgs),
 }
 
 /// The reference implementation's times on one CPU thread (DESIGN.md section 4), in ms.
@@ -98,7 +102,7 @@ fn has_avx2() -> bool {
     false
 }
 
-fn cpu_name() -> String {
+pub fn cpu_name() -> String {
     std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|s| {
@@ -113,6 +117,7 @@ pub fn run(which: BenchCommand) -> Result<()> {
     let (output, seconds) = match which {
         BenchCommand::Extract { output, seconds } => (output, seconds),
         BenchCommand::Generate(args) => return crate::generate::bench_generate(args),
+        BenchCommand::TrainVae(args) => return crate::train::bench_train_vae(args),
     };
     let budget = Duration::from_secs_f64(seconds);
     let mut report = Report {

@@ -56,6 +56,10 @@ pub struct TrainVaeArgs {
     /// Validation meshes evaluated at each evaluation step.
     #[arg(long, default_value_t = 64)]
     val_meshes: usize,
+    /// Stop after this many seconds of wall time (checkpointed and validated, weights
+    /// written), e.g. for sweep arms with equal budgets.
+    #[arg(long)]
+    time_budget_s: Option<f64>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -78,6 +82,128 @@ impl From<Backend> for BackendKind {
     }
 }
 
+/// `meshflow bench train-vae`.
+#[derive(Args)]
+pub struct BenchTrainVaeArgs {
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    data: Option<PathBuf>,
+    /// A size preset (`ship`, `tiny`) or a JSON file with a full training configuration.
+    #[arg(long, default_value = "ship")]
+    config: String,
+    /// Steps timed after one warm-up step.
+    #[arg(long, default_value_t = 10)]
+    steps: usize,
+    /// Training meshes cycled through (the first of the train split that fit).
+    #[arg(long, default_value_t = 256)]
+    limit: usize,
+    /// Where to write the JSON.
+    #[arg(short, long, default_value = "bench/train_vae_step.json")]
+    output: PathBuf,
+}
+
+#[derive(Serialize)]
+struct StepPart {
+    part: String,
+    ms: f64,
+    share: f64,
+}
+
+#[derive(Serialize)]
+struct StepReport {
+    method: &'static str,
+    cpu: String,
+    threads: usize,
+    config: String,
+    batch_size: usize,
+    num_vertices: usize,
+    length_buckets: bool,
+    step_ms: f64,
+    meshes_per_s: f64,
+    parts: Vec<StepPart>,
+    /// Mean matrix-product FLOPs of a step: 3x the forward's (forward + two backward
+    /// products).
+    step_gflop: f64,
+    achieved_gflop_per_s: f64,
+    /// A 4096x256 @ 256x256 f32 matmul on the same backend, best of 5.
+    matmul_peak_gflop_per_s: f64,
+}
+
+/// The CPU backend's matmul throughput on DESIGN.md's reference shape, best of 5 runs.
+fn matmul_peak(device: &meshflow::burn::tensor::Device) -> f64 {
+    use meshflow::burn::tensor::{Distribution, Tensor};
+    let a = Tensor::<2>::random([4096, 256], Distribution::Default, device);
+    let b = Tensor::<2>::random([256, 256], Distribution::Default, device);
+    let mut best = f64::INFINITY;
+    for _ in 0..6 {
+        let t = Instant::now();
+        let _ = a.clone().matmul(b.clone()).into_data();
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    2.0 * 4096.0 * 256.0 * 256.0 / best / 1e9
+}
+
+pub fn bench_train_vae(args: BenchTrainVaeArgs) -> Result<()> {
+    let cfg = resolve_config(&args.config)?;
+    cfg.validate()
+        .map_err(|e| BadInput(format!("configuration: {e}")))?;
+    let data = crate::data::shards_dir(args.data);
+    let mut meshes: Vec<Mesh> = load_split(&data, Split::Train)?
+        .into_iter()
+        .filter(|m| m.positions.len() <= cfg.model.num_vertices)
+        .collect();
+    meshes.truncate(args.limit.max(1));
+    let device = device(BackendKind::Cpu).map_err(|e| anyhow::anyhow!(e))?;
+    let peak = matmul_peak(&device);
+    let profile =
+        meshflow::train::vae::profile_vae_step(&cfg, &meshes, &device, args.steps.max(1))?;
+    let parts = &profile.parts;
+    let step_s: f64 = parts.iter().map(|(_, s)| s).sum();
+    let step_gflop = profile.flops_per_step / 1e9;
+    let report = StepReport {
+        method: "mean wall time per part over `steps` training steps after one warm-up step \
+                 (profile_vae_step: the training loop's step and batching with laps; Burn's CPU \
+                 backend runs eagerly); FLOPs are the matrix products only \
+                 (VaeConfig::forward_flops at each batch's slot count, x 3)",
+        cpu: crate::bench::cpu_name(),
+        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        config: args.config.clone(),
+        batch_size: cfg.batch_size,
+        num_vertices: cfg.model.num_vertices,
+        length_buckets: cfg.model.length_buckets,
+        step_ms: step_s * 1e3,
+        meshes_per_s: profile.meshes_per_step / step_s,
+        parts: parts
+            .iter()
+            .map(|(p, s)| StepPart {
+                part: p.to_string(),
+                ms: s * 1e3,
+                share: s / step_s,
+            })
+            .collect(),
+        step_gflop,
+        achieved_gflop_per_s: step_gflop / step_s,
+        matmul_peak_gflop_per_s: peak,
+    };
+    for p in &report.parts {
+        println!("{:>42}: {:8.1} ms ({:4.1}%)", p.part, p.ms, p.share * 100.0);
+    }
+    println!(
+        "step {:.0} ms = {:.2} meshes/s; {:.1} GFLOP per step = {:.1} GFLOP/s (matmul peak {:.1})",
+        report.step_ms,
+        report.meshes_per_s,
+        report.step_gflop,
+        report.achieved_gflop_per_s,
+        report.matmul_peak_gflop_per_s
+    );
+    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
+        fs::create_dir_all(dir)?;
+    }
+    fs::write(&args.output, serde_json::to_string_pretty(&report)? + "\n")?;
+    println!("-> {}", args.output.display());
+    Ok(())
+}
+
 /// The shipped size: chosen by measurement (BENCHMARKS.md) to train in at most 2 hours on the
 /// 2-core CPU.
 pub fn ship_config() -> VaeTrainConfig {
@@ -94,6 +220,7 @@ pub fn ship_config() -> VaeTrainConfig {
         num_freqs: 8,
         edge_dim: 32,
         tau: 0.6,
+        length_buckets: false,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 8;
@@ -130,6 +257,7 @@ pub fn tiny_config() -> VaeTrainConfig {
         num_freqs: 6,
         edge_dim: 32,
         tau: 0.6,
+        length_buckets: false,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 4;
@@ -165,12 +293,33 @@ pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
         .collect())
 }
 
-/// A progress bar for a training run.
+/// A progress bar for a training run, with an optional wall-clock budget after which the run
+/// stops (checkpointed, so it can be resumed) and writes its weights.
 pub struct BarObserver {
     pub bar: ProgressBar,
+    pub deadline: Option<Instant>,
+}
+
+impl BarObserver {
+    /// A bar of `steps` steps that stops the run after `budget_s` seconds (when given).
+    pub fn new(steps: usize, budget_s: Option<f64>) -> Self {
+        let bar = ProgressBar::new(steps as u64);
+        bar.set_style(
+            ProgressStyle::with_template(
+                "{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}",
+            )
+            .expect("template"),
+        );
+        let deadline = budget_s.map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
+        Self { bar, deadline }
+    }
 }
 
 impl TrainObserver for BarObserver {
+    fn stop(&self) -> bool {
+        self.deadline.is_some_and(|d| Instant::now() >= d)
+    }
+
     fn step(&mut self, step: usize, summary: &str) {
         self.bar.set_position(step as u64);
         self.bar.set_message(summary.to_string());
@@ -223,12 +372,17 @@ pub fn latent_statistics(
 ) -> (Vec<f32>, Vec<f32>) {
     let d = cfg.latent_dim;
     let (mut sum, mut sq, mut count) = (vec![0f64; d], vec![0f64; d], 0f64);
-    let tokens: Vec<_> = meshes
+    let mut tokens: Vec<_> = meshes
         .iter()
         .enumerate()
-        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens(), i as u64).ok())
+        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens_for(m.positions.len()), i as u64).ok())
         .collect();
-    for chunk in tokens.chunks(16) {
+    // One length per forward pass (length buckets).
+    tokens.sort_by_key(|t| t.mask.len());
+    let chunks = tokens
+        .chunk_by(|a, b| a.mask.len() == b.mask.len())
+        .flat_map(|same| same.chunks(16));
+    for chunk in chunks {
         let batch = make_batch(chunk, device);
         let mean = vae.encode(batch.features, &mut Trace::default()).mean;
         let values = mean
@@ -275,8 +429,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     if let Some(s) = args.seed {
         cfg.seed = s;
     }
-    cfg.model
-        .validate()
+    cfg.validate()
         .map_err(|e| BadInput(format!("configuration: {e}")))?;
     let data = crate::data::shards_dir(args.data);
     let fits = |m: &Mesh| m.positions.len() <= cfg.model.num_vertices;
@@ -310,13 +463,8 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         cfg.batch_size,
         BackendKind::from(args.backend).name()
     );
-    let bar = ProgressBar::new(cfg.steps as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}")
-            .expect("template"),
-    );
     let started = Instant::now();
-    let mut observer = BarObserver { bar };
+    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
     let trained = train_vae(&cfg, &train, &val, &args.out, &device, &mut observer)?;
     observer.bar.finish();
     let wall = started.elapsed().as_secs_f64();

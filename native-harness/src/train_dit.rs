@@ -8,7 +8,6 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::device::{BackendKind, device};
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
@@ -38,6 +37,9 @@ pub struct TrainDitArgs {
     steps: Option<usize>,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
+    /// Stop after this many seconds of wall time (checkpointed, weights written).
+    #[arg(long)]
+    time_budget_s: Option<f64>,
 }
 
 /// What ships beside `dit.safetensors` (inference reads the fields of
@@ -88,8 +90,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
             cfg.model.num_latents, cfg.model.latent_dim, vcfg.num_latents, vcfg.latent_dim
         )));
     }
-    cfg.model
-        .validate()
+    cfg.validate()
         .map_err(|e| BadInput(format!("configuration: {e}")))?;
     let data = crate::data::shards_dir(args.data);
     let encode = |split| -> Result<_> {
@@ -117,12 +118,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         cfg.steps
     );
     fs::create_dir_all(&args.out)?;
-    let bar = ProgressBar::new(cfg.steps as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{elapsed_precise} [{bar:30}] {pos}/{len} ETA {eta} {msg}")
-            .expect("template"),
-    );
-    let mut observer = BarObserver { bar };
+    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
     let (weights, steps, last_val) =
         train_dit(&cfg, &train, &val, &args.out, &device, &mut observer)?;
     observer.bar.finish();

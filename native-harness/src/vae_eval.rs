@@ -77,7 +77,8 @@ pub struct EvalVaeArgs {
     /// Write the JSON report here.
     #[arg(short, long)]
     output: Option<PathBuf>,
-    /// Write the reconstructed meshes (GLB) into this folder.
+    /// Write the reconstructed meshes (`I.glb`) and their ground truth (`I_gt.glb`, model
+    /// frame) into this folder.
     #[arg(long)]
     meshes: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "cpu")]
@@ -362,14 +363,18 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let bar = indicatif::ProgressBar::new(meshes.len() as u64);
     let mut per_mesh = Vec::new();
     // Files are named by position in the split, so a skipped mesh leaves a gap, not a shift.
-    let mut keep =
-        |index: usize, name: &str, r: meshflow::reconstruct::Reconstruction| -> Result<()> {
-            if let Some(dir) = &args.meshes {
-                meshflow::io::write_path(&r.mesh, &dir.join(format!("{index}.glb")))?;
-            }
-            per_mesh.push((name.to_owned(), r.metrics));
-            Ok(())
-        };
+    let mut keep = |index: usize,
+                    name: &str,
+                    gt: &Mesh,
+                    r: meshflow::reconstruct::Reconstruction|
+     -> Result<()> {
+        if let Some(dir) = &args.meshes {
+            meshflow::io::write_path(&r.mesh, &dir.join(format!("{index}.glb")))?;
+            meshflow::io::write_path(gt, &dir.join(format!("{index}_gt.glb")))?;
+        }
+        per_mesh.push((name.to_owned(), r.metrics));
+        Ok(())
+    };
     for (c, chunk) in meshes.chunks(BATCH).enumerate() {
         let batch: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
         match reconstruct_batch(
@@ -381,8 +386,8 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
             &device,
         ) {
             Ok(results) => {
-                for (k, ((name, _), r)) in chunk.iter().zip(results).enumerate() {
-                    keep(c * BATCH + k, name, r)?;
+                for (k, ((name, gt), r)) in chunk.iter().zip(results).enumerate() {
+                    keep(c * BATCH + k, name, gt, r)?;
                 }
             }
             // A batch fails as a whole (e.g. an extracted mesh with no faces to sample);
@@ -397,7 +402,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
                         &CompareOptions::default(),
                         &device,
                     ) {
-                        Ok(mut r) => keep(c * BATCH + k, name, r.remove(0))?,
+                        Ok(mut r) => keep(c * BATCH + k, name, m, r.remove(0))?,
                         Err(e) => skipped.push(format!("{name}: {e}")),
                     }
                 }
@@ -431,6 +436,10 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         per_mesh,
     };
     let s = &report.all;
+    // The skipped meshes come first, so a reader sees what the figures leave out.
+    for reason in &report.skipped {
+        println!("skipped: {reason}");
+    }
     println!(
         "{} meshes: vertex x100 {:.3}, normal x100 {:.3}, edge P/R/F1 {:.3}/{:.3}/{:.3} (pooled F1 \
          {:.3}), CD x100 {:.3}, HD x100 {:.3}",

@@ -232,7 +232,7 @@ const SMALL_TRAINING: &str = r#"{
   "model": {"num_vertices": 512, "num_latents": 128, "latent_dim": 8, "width_encoder": 32,
             "width_decoder": 32, "num_heads": 2, "num_layers_encoder": 1,
             "num_layers_decoder": 1, "max_degree": 16, "num_freqs": 4, "edge_dim": 32,
-            "tau": 0.6},
+            "tau": 0.6, "length_buckets": true},
   "batch_size": 2, "steps": 4, "learning_rate": 0.001, "warmup_steps": 1,
   "final_lr_ratio": 0.1, "weight_decay": 0.0, "grad_clip": 1.0, "kl_weight": 0.001,
   "lambda_neg": 0.01, "position_weight": 10.0, "normal_weight": 1.0, "ema_decay": 0.9,
@@ -311,6 +311,11 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.starts_with("skipped: 0 of 4 meshes have more than 512 vertices"),
+        "the skipped meshes are reported first: {stdout}"
+    );
     let report: serde_json::Value = serde_json::from_slice(&std::fs::read(&eval).unwrap()).unwrap();
     assert_eq!(report["all"]["meshes"], 4);
     assert_eq!(report["token_compression"], 4.0);
@@ -352,6 +357,40 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    // A configuration with an unknown key or an impossible shape fails before any step,
+    // naming the field.
+    let fresh = dir.join("never");
+    for (config, field) in [
+        (SMALL_TRAINING.replace("\"seed\"", "\"sede\""), "sede"),
+        (
+            SMALL_TRAINING.replace("\"latent_dim\": 8", "\"latent_dim\": 0"),
+            "latent_dim",
+        ),
+        (
+            SMALL_TRAINING.replace("\"num_latents\": 128", "\"num_latents\": 100"),
+            "num_latents",
+        ),
+    ] {
+        let bad = dir.join("bad.json");
+        std::fs::write(&bad, config).unwrap();
+        let out = meshflow(&[
+            "train",
+            "vae",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            fresh.to_str().unwrap(),
+            "--config",
+            bad.to_str().unwrap(),
+        ]);
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert_eq!(out.status.code(), Some(2), "{stderr}");
+        assert!(stderr.contains(field), "{field}: {stderr}");
+        assert!(
+            !fresh.join("metrics.jsonl").exists(),
+            "{field}: no step ran"
+        );
+    }
     let points = fixture("points/stone_lantern_2048.ply");
     let out = meshflow(&[
         "reconstruct",
@@ -427,15 +466,22 @@ fn train_dit_on_latents_of_the_shipped_vae() {
     let run = dir.join("run");
     let _ = std::fs::remove_dir_all(&run);
     let config = dir.join("dit.json");
-    let tiny = |latents: usize| {
+    // The DiT's latent shape follows the shipped VAE's.
+    let vae: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(weights.join("vae.json")).unwrap()).unwrap();
+    let (num_latents, latent_dim) = (
+        vae["num_latents"].as_u64().unwrap(),
+        vae["latent_dim"].as_u64().unwrap(),
+    );
+    let tiny = |latents: u64| {
         format!(
-            r#"{{"model": {{"num_latents": {latents}, "latent_dim": 8, "width": 48, "depth": 2,
+            r#"{{"model": {{"num_latents": {latents}, "latent_dim": {latent_dim}, "width": 48, "depth": 2,
                 "num_heads": 2}}, "batch_size": 4, "steps": 4, "learning_rate": 0.001,
                 "warmup_steps": 1, "final_lr_ratio": 0.1, "weight_decay": 0.0, "grad_clip": 1.0,
                 "ema_decay": 0.9, "seed": 1, "checkpoint_every": 2, "eval_every": 2}}"#
         )
     };
-    std::fs::write(&config, tiny(128)).unwrap();
+    std::fs::write(&config, tiny(num_latents)).unwrap();
     let args = |config: &Path| {
         vec![
             "train".to_string(),
@@ -468,7 +514,7 @@ fn train_dit_on_latents_of_the_shipped_vae() {
     );
     generate_with_a_trained_dit(&weights, &run, &dir);
     // A DiT sized for other latents than the VAE makes is refused.
-    std::fs::write(&config, tiny(64)).unwrap();
+    std::fs::write(&config, tiny(num_latents / 2)).unwrap();
     let a = args(&config);
     let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(out.status.code(), Some(2));

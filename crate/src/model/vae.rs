@@ -44,6 +44,12 @@ pub struct VaeConfig {
     pub edge_dim: usize,
     /// Spacetime threshold: an edge iff d > tau.
     pub tau: f32,
+    /// Pad each mesh to the smallest of N/8, N/4, N/2 and N vertex slots that holds it
+    /// (N/(8r) ... N/r latents), in training and at inference alike, instead of always to N.
+    /// Nothing in the model depends on the token count, and every product in it scales with
+    /// it, so a 60-vertex mesh costs 64 slots, not 512. Off in the reference layout.
+    #[serde(default)]
+    pub length_buckets: bool,
 }
 
 impl VaeConfig {
@@ -62,6 +68,7 @@ impl VaeConfig {
             num_freqs: 16,
             edge_dim: 32,
             tau: 0.6,
+            length_buckets: false,
         }
     }
 
@@ -70,7 +77,7 @@ impl VaeConfig {
         self.num_vertices / self.num_latents
     }
 
-    /// The token layout the encoder expects.
+    /// The token layout the encoder expects at full length (N slots).
     pub fn tokens(&self) -> TokenConfig {
         TokenConfig {
             num_vertices: self.num_vertices,
@@ -79,9 +86,68 @@ impl VaeConfig {
         }
     }
 
+    /// Vertex slots for a mesh of `vertices` vertices: N, or with
+    /// [`length_buckets`](Self::length_buckets) the smallest of N/8, N/4, N/2 that holds it
+    /// (each a multiple of the merge ratio; a bucket that is not is skipped).
+    pub fn slots_for(&self, vertices: usize) -> usize {
+        if self.length_buckets {
+            let r = self.merge_ratio().max(1);
+            for div in [8, 4, 2] {
+                let slots = self.num_vertices / div;
+                if slots >= r && slots.is_multiple_of(r) && vertices <= slots {
+                    return slots;
+                }
+            }
+        }
+        self.num_vertices
+    }
+
+    /// The token layout for a mesh of `vertices` vertices ([`Self::slots_for`] slots).
+    pub fn tokens_for(&self, vertices: usize) -> TokenConfig {
+        TokenConfig {
+            num_vertices: self.slots_for(vertices),
+            ..self.tokens()
+        }
+    }
+
     /// Encoder input channels: two Fourier blocks and the neighbour block.
     pub fn in_channels(&self) -> usize {
         2 * embed_dim(self.num_freqs) + 3 * self.max_degree
+    }
+
+    /// Multiply-add FLOPs (2 per multiply-add) of the matrix products in one forward pass of
+    /// one mesh padded to `slots` vertex slots (N, or its length bucket): every Linear, the
+    /// attention scores and weighted sums, and the Gram matrices of the pairwise spacetime
+    /// distances. Elementwise work (norms, activations, softmax, the losses) is left out, so
+    /// FLOP/s figures from this are matrix-product throughput.
+    pub fn forward_flops(&self, slots: usize) -> f64 {
+        let r = self.merge_ratio() as f64;
+        let (n, l) = (slots as f64, slots as f64 / r);
+        let (we, wd) = (self.width_encoder as f64, self.width_decoder as f64);
+        let (c, d, e) = (
+            self.in_channels() as f64,
+            self.latent_dim as f64,
+            self.edge_dim as f64,
+        );
+        let linear = |rows: f64, k: f64, m: f64| 2.0 * rows * k * m;
+        // q, k, v, out projections plus scores and weighted sums, then the 4x feed-forward.
+        let attention = |lq: f64, lk: f64, w: f64| {
+            linear(lq, w, w) * 2.0 + linear(lk, w, w) * 2.0 + 4.0 * lq * lk * w
+        };
+        let block = |lq: f64, lk: f64, w: f64| attention(lq, lk, w) + linear(lq, w, 4.0 * w) * 2.0;
+        let encoder = linear(n, c, we)
+            + linear(l, r * we, we)
+            + block(l, n, we)
+            + self.num_layers_encoder as f64 * block(l, l, we)
+            + linear(l, we, 2.0 * d);
+        let heads = linear(n, wd, wd / 2.0) * 4.0 + linear(n, wd / 2.0, 7.0 + e);
+        let decoder = linear(l, d, wd)
+            + self.num_layers_decoder as f64 * block(l, l, wd)
+            + linear(n, wd / r, wd)
+            + block(n, l, wd)
+            + heads;
+        let distances = 2.0 * n * n * e;
+        encoder + decoder + distances
     }
 
     /// Checks the sizes fit together; the message names the offending field.

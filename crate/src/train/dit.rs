@@ -6,23 +6,22 @@
 //! logit-normal (`sigmoid(N(0, 1))`), forms `x_t = (1 - t) x_0 + t eps` and regresses the
 //! velocity `eps - x_0` with mean squared error (DESIGN.md section 2).
 
-use std::io::Write;
+use std::collections::BTreeMap;
 use std::path::Path;
-use std::time::Instant;
 
-use burn::module::Module;
 use burn::optim::GradientsParams;
 use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{TrainError, TrainObserver, ema_update, open_run, scalar, warmup_cosine};
+use super::run::{Schedule, StepOutcome, Task, run_training};
+use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
 use crate::condition::{latent_positions, vertex_condition};
 use crate::model::dit::{Dit, DitConfig, Rope};
 use crate::model::sampler::normal_noise;
-use crate::model::weights::{TensorMap, WeightsError, load_module};
-use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, seeded_init};
+use crate::model::weights::{TensorMap, WeightsError};
+use crate::model::{MeshVae, Trace, VaeConfig, seeded_init};
 use crate::rng::Rng;
 use crate::tokens::build_tokens;
 use crate::train::vae::make_batch;
@@ -30,7 +29,8 @@ use crate::train::vae::make_batch;
 /// One cached training example.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LatentExample {
-    /// `num_latents x latent_dim`, normalised.
+    /// `L x latent_dim`, normalised; L is `num_latents`, or with length buckets the mesh's
+    /// bucket.
     pub latents: Vec<f32>,
     /// RoPE voxel position of each latent token.
     pub positions: Vec<[f32; 3]>,
@@ -47,14 +47,20 @@ pub fn encode_latents(
     std: &[f32],
     device: &Device,
 ) -> Vec<LatentExample> {
-    let tokens: Vec<_> = meshes
+    let mut tokens: Vec<_> = meshes
         .iter()
         .enumerate()
-        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens(), i as u64).ok())
+        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens_for(m.positions.len()), i as u64).ok())
         .collect();
-    let (l, d) = (cfg.num_latents, cfg.latent_dim);
+    // One length per forward pass (length buckets); examples are sampled, so order is free.
+    tokens.sort_by_key(|t| t.mask.len());
+    let d = cfg.latent_dim;
     let mut out = Vec::with_capacity(tokens.len());
-    for chunk in tokens.chunks(16) {
+    let chunks = tokens
+        .chunk_by(|a, b| a.mask.len() == b.mask.len())
+        .flat_map(|same| same.chunks(16));
+    for chunk in chunks {
+        let l = chunk[0].mask.len() / cfg.merge_ratio();
         let batch = make_batch(chunk, device);
         let z = vae.encode(batch.features, &mut Trace::default()).mean;
         let values = z
@@ -80,6 +86,7 @@ pub fn encode_latents(
 
 /// Everything that defines a DiT training run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct DitTrainConfig {
     pub model: DitConfig,
     pub batch_size: usize,
@@ -115,6 +122,40 @@ impl DitTrainConfig {
     }
 }
 
+impl DitTrainConfig {
+    /// The schedule part, for [`run_training`].
+    pub fn schedule(&self) -> Schedule {
+        Schedule {
+            steps: self.steps,
+            learning_rate: self.learning_rate,
+            warmup_steps: self.warmup_steps,
+            final_lr_ratio: self.final_lr_ratio,
+            weight_decay: self.weight_decay,
+            grad_clip: self.grad_clip,
+            ema_decay: self.ema_decay,
+            seed: self.seed,
+            checkpoint_every: self.checkpoint_every,
+            eval_every: self.eval_every,
+        }
+    }
+
+    /// Checks the model's sizes and the schedule before any step runs; the message names the
+    /// offending field.
+    pub fn validate(&self) -> Result<(), String> {
+        self.model.validate()?;
+        super::check_schedule(
+            &[
+                ("batch_size", self.batch_size),
+                ("steps", self.steps),
+                ("checkpoint_every", self.checkpoint_every),
+                ("eval_every", self.eval_every),
+            ],
+            self.learning_rate,
+            self.ema_decay,
+        )
+    }
+}
+
 /// A batch of flow-matching inputs and targets.
 struct FlowBatch {
     x_t: Tensor<3>,
@@ -130,7 +171,7 @@ fn flow_batch(
     rng: &mut Rng,
     device: &Device,
 ) -> FlowBatch {
-    let (b, l, d) = (examples.len(), cfg.num_latents, cfg.latent_dim);
+    let (b, l, d) = (examples.len(), examples[0].positions.len(), cfg.latent_dim);
     let x0: Vec<f32> = examples
         .iter()
         .flat_map(|e| e.latents.iter().copied())
@@ -145,7 +186,7 @@ fn flow_batch(
     let x_t = x0.clone() * (tt.clone().neg() + 1.0) + eps.clone() * tt;
     let cond: Vec<f32> = examples
         .iter()
-        .map(|e| vertex_condition(e.vertex_count, l))
+        .map(|e| vertex_condition(e.vertex_count, cfg.num_latents))
         .collect();
     let positions: Vec<[f32; 3]> = examples
         .iter()
@@ -181,8 +222,13 @@ pub fn validate_dit(
 ) -> f64 {
     let mut rng = Rng::new(cfg.seed ^ 0x5eed);
     let (mut sum, mut n) = (0.0, 0.0);
-    for chunk in val.chunks(cfg.batch_size.max(1)) {
-        let refs: Vec<&LatentExample> = chunk.iter().collect();
+    let mut val: Vec<&LatentExample> = val.iter().collect();
+    val.sort_by_key(|e| e.positions.len());
+    let chunks = val
+        .chunk_by(|a, b| a.positions.len() == b.positions.len())
+        .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
+    for chunk in chunks {
+        let refs: Vec<&LatentExample> = chunk.to_vec();
         let batch = flow_batch(&refs, &cfg.model, &mut rng, device);
         sum += scalar(flow_loss(dit, &batch)) * chunk.len() as f64;
         n += chunk.len() as f64;
@@ -190,26 +236,81 @@ pub fn validate_dit(
     sum / n.max(1.0)
 }
 
-#[derive(Serialize, Deserialize)]
-struct DitState {
-    config: DitTrainConfig,
-    step: usize,
-    rng: u64,
+/// A validation line of the metrics file.
+#[derive(Clone, Debug, Serialize)]
+pub struct DitValidation {
+    pub step: usize,
+    /// Flow-matching loss on fixed draws of t and noise.
+    pub val_loss: f64,
 }
 
-#[derive(Serialize)]
-struct DitStepLog {
-    step: usize,
-    lr: f64,
-    loss: f64,
-    grad_norm: f64,
-    examples_per_s: f64,
-    elapsed_s: f64,
+/// The DiT's part of [`run_training`]: batches of one token count, flow matching.
+struct DitTask<'a> {
+    cfg: &'a DitTrainConfig,
+    train: Vec<&'a LatentExample>,
+    /// The training examples by token count.
+    by_length: BTreeMap<usize, Vec<&'a LatentExample>>,
+    val: &'a [LatentExample],
+    ad_device: Device,
+    device: Device,
 }
 
-/// Trains the DiT on cached latents, with checkpoints and `metrics.jsonl` under `out_dir`;
-/// resumes from `out_dir/checkpoint` when its configuration matches. Returns the weights to
-/// ship (the EMA when enabled) and the last validation loss.
+impl Task for DitTask<'_> {
+    type Model = Dit;
+    /// Batches are drawn at random from the run's RNG, so there is no data position.
+    type Position = NoPosition;
+    type Validation = DitValidation;
+    const THROUGHPUT: &'static str = "examples_per_s";
+
+    fn step(
+        &mut self,
+        dit: Dit,
+        _: &mut NoPosition,
+        rng: &mut Rng,
+        (optim, optim_state): (&AdamW, &mut AdamWState),
+        lr: f64,
+    ) -> (Dit, Option<StepOutcome>) {
+        // The first example is drawn uniformly and the rest from its token count, so every
+        // example keeps the same chance and a batch holds one length (length buckets).
+        let first = self.train[rng.below(self.train.len())];
+        let same = &self.by_length[&first.positions.len()];
+        let batch: Vec<&LatentExample> = std::iter::once(first)
+            .chain((1..self.cfg.batch_size).map(|_| same[rng.below(same.len())]))
+            .collect();
+        let fb = flow_batch(&batch, &self.cfg.model, rng, &self.ad_device);
+        let loss = flow_loss(&dit, &fb);
+        let grads = GradientsParams::from_grads(loss.backward(), &dit);
+        let (dit, grad_norm) = optim.step(optim_state, dit, grads, lr);
+        let loss = scalar(loss);
+        let outcome = StepOutcome {
+            loss,
+            grad_norm,
+            examples: batch.len(),
+            terms: Vec::new(),
+            summary: format!("loss {loss:.4}, grad norm {grad_norm:.2}"),
+        };
+        (dit, Some(outcome))
+    }
+
+    fn validate(&self, dit: &Dit, step: usize) -> Option<DitValidation> {
+        (!self.val.is_empty()).then(|| DitValidation {
+            step,
+            val_loss: validate_dit(dit, self.cfg, self.val, &self.device),
+        })
+    }
+
+    fn describe(v: &DitValidation) -> String {
+        format!("step {}: validation flow loss {:.4}", v.step, v.val_loss)
+    }
+}
+
+/// The DiT draws its batches from the run's RNG alone: nothing to save.
+#[derive(Default, Serialize, Deserialize)]
+pub struct NoPosition {}
+
+/// Trains the DiT on cached latents ([`run_training`]), with checkpoints and `metrics.jsonl`
+/// under `out_dir`; resumes from `out_dir/checkpoint` when its configuration matches. Returns
+/// the weights to ship (the EMA when enabled), the steps and the last validation loss.
 pub fn train_dit(
     cfg: &DitTrainConfig,
     train: &[LatentExample],
@@ -218,101 +319,42 @@ pub fn train_dit(
     device: &Device,
     observer: &mut dyn TrainObserver,
 ) -> Result<(TensorMap, usize, Option<f64>), TrainError> {
-    cfg.model
-        .validate()
+    cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
-    let shape = cfg.model.num_latents * cfg.model.latent_dim;
-    let train: Vec<&LatentExample> = train.iter().filter(|e| e.latents.len() == shape).collect();
+    let d = cfg.model.latent_dim;
+    let train: Vec<&LatentExample> = train
+        .iter()
+        .filter(|e| {
+            let l = e.positions.len();
+            l > 0 && l <= cfg.model.num_latents && e.latents.len() == l * d
+        })
+        .collect();
     if train.is_empty() {
         return Err(TrainError::NoData(cfg.model.num_latents));
     }
-    let (paths, mut log) = open_run(out_dir)?;
+    let mut by_length: BTreeMap<usize, Vec<&LatentExample>> = BTreeMap::new();
+    for e in &train {
+        by_length.entry(e.positions.len()).or_default().push(e);
+    }
     let ad_device = device.clone().autodiff();
-    let mut dit = seeded_init(Dit::new(&cfg.model, &ad_device), cfg.seed);
-    let optim = AdamW::new(cfg.weight_decay, cfg.grad_clip);
-    let mut optim_state = AdamWState::default();
-    let mut state = DitState {
-        config: cfg.clone(),
-        step: 0,
-        rng: cfg.seed,
+    let dit = seeded_init(Dit::new(&cfg.model, &ad_device), cfg.seed);
+    let mut task = DitTask {
+        cfg,
+        train,
+        by_length,
+        val,
+        ad_device,
+        device: device.clone(),
     };
-    let mut ema = None;
-    if let Some(r) = paths.restore(
-        |saved: &DitState| saved.config == *cfg,
-        |saved| saved.step,
-        cfg.ema_decay.is_some(),
+    let trained = run_training(
+        &mut task,
+        cfg,
+        &cfg.schedule(),
+        dit,
+        out_dir,
         device,
-    )? {
-        dit = load_module(dit, &r.model, &|_| false)?;
-        optim_state = r.optim;
-        ema = r.ema;
-        state = r.state;
-    }
-    if cfg.ema_decay.is_some() && ema.is_none() {
-        ema = Some(module_tensors(&dit));
-    }
-    let mut rng = Rng::new(state.rng);
-    let started = Instant::now();
-    let mut last_val = None;
-    while state.step < cfg.steps && !observer.stop() {
-        let batch: Vec<&LatentExample> = (0..cfg.batch_size)
-            .map(|_| train[rng.below(train.len())])
-            .collect();
-        let fb = flow_batch(&batch, &cfg.model, &mut rng, &ad_device);
-        let loss = flow_loss(&dit, &fb);
-        let grads = GradientsParams::from_grads(loss.backward(), &dit);
-        let lr = warmup_cosine(
-            state.step,
-            cfg.learning_rate,
-            cfg.warmup_steps,
-            cfg.steps,
-            cfg.final_lr_ratio,
-        );
-        let (updated, grad_norm) = optim.step(&mut optim_state, dit, grads, lr);
-        dit = updated;
-        state.step += 1;
-        let loss = scalar(loss);
-        if !loss.is_finite() {
-            return Err(TrainError::Diverged(loss, state.step));
-        }
-        if let (Some(ema), Some(decay)) = (ema.as_mut(), cfg.ema_decay) {
-            ema_update(ema, &module_tensors(&dit), decay);
-        }
-        let elapsed = started.elapsed().as_secs_f64();
-        let line = DitStepLog {
-            step: state.step,
-            lr,
-            loss,
-            grad_norm,
-            examples_per_s: (state.step * cfg.batch_size) as f64 / elapsed.max(1e-9),
-            elapsed_s: elapsed,
-        };
-        writeln!(
-            log,
-            "{}",
-            serde_json::to_string(&line).expect("serialisable")
-        )?;
-        observer.step(
-            state.step,
-            &format!("loss {loss:.4}, grad norm {grad_norm:.2}"),
-        );
-        let last = state.step == cfg.steps;
-        if (state.step.is_multiple_of(cfg.eval_every.max(1)) || last) && !val.is_empty() {
-            let v = validate_dit(&dit.valid(), cfg, val, device);
-            writeln!(
-                log,
-                "{}",
-                serde_json::json!({"step": state.step, "val_loss": v})
-            )?;
-            observer.note(&format!("step {}: validation flow loss {v:.4}", state.step));
-            last_val = Some(v);
-        }
-        if state.step.is_multiple_of(cfg.checkpoint_every.max(1)) || last || observer.stop() {
-            state.rng = rng.next_u64();
-            rng = Rng::new(state.rng);
-            paths.save(&module_tensors(&dit), &optim_state, ema.as_ref(), &state)?;
-        }
-    }
-    let weights = ema.unwrap_or_else(|| module_tensors(&dit));
-    Ok((weights, state.step, last_val))
+        observer,
+    )?;
+    let last = trained.last_validation.map(|v| v.val_loss);
+    Ok((trained.weights, trained.steps, last))
 }

@@ -1,16 +1,22 @@
-//! Training loops (feature `train`: Burn's autodiff) and what they share: the optimiser,
-//! checkpoint files, the learning-rate schedule, EMA, noise and the observer interface.
+//! Training (feature `train`: Burn's autodiff): one loop for both models ([`run`]) with the
+//! model-specific steps in [`vae`] and [`dit`], and what the loop is made of: the optimiser,
+//! checkpoint files, the learning-rate schedule, the device-side EMA and the observer
+//! interface.
 
 pub mod adamw;
 pub mod dit;
+pub mod run;
 pub mod vae;
 
 use std::fs;
 use std::path::{Path, PathBuf};
 
+use std::collections::BTreeMap;
+
+use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::tensor::{Device, Tensor};
 
-use crate::model::weights::{TensorMap, WeightsError};
+use crate::model::weights::{TensorMap, WeightsError, load_module, module_tensors, reference_name};
 
 /// Why training stopped early.
 #[derive(Debug, thiserror::Error)]
@@ -39,6 +45,28 @@ pub trait TrainObserver {
     fn stop(&self) -> bool {
         false
     }
+}
+
+/// Checks what both training configurations share: the counts in `counts` are at least 1, the
+/// learning rate is positive and finite, the EMA decay (when set) is in [0, 1). The message names
+/// the offending field.
+pub(crate) fn check_schedule(
+    counts: &[(&str, usize)],
+    learning_rate: f64,
+    ema_decay: Option<f32>,
+) -> Result<(), String> {
+    if let Some((name, _)) = counts.iter().find(|(_, v)| *v == 0) {
+        return Err(format!("{name} must be at least 1"));
+    }
+    if !(learning_rate.is_finite() && learning_rate > 0.0) {
+        return Err(format!(
+            "learning_rate must be positive (got {learning_rate})"
+        ));
+    }
+    if let Some(d) = ema_decay.filter(|d| !(0.0..1.0).contains(d)) {
+        return Err(format!("ema_decay must be in [0, 1) (got {d})"));
+    }
+    Ok(())
 }
 
 /// Linear warm-up over `warmup` steps, then cosine decay to `lr * final_ratio` at `steps`
@@ -157,6 +185,31 @@ pub(crate) fn open_run(out_dir: &Path) -> Result<(CheckpointPaths, fs::File), Tr
     Ok((CheckpointPaths::new(&ckpt_dir), log))
 }
 
+/// Drops the lines of `out_dir/metrics.jsonl` written after step `step` (by a run that was
+/// killed after its last checkpoint), so a resumed run's log reads like an unbroken one, and
+/// opens it again for appending.
+pub(crate) fn resume_metrics(out_dir: &Path, step: usize) -> Result<fs::File, TrainError> {
+    let path = out_dir.join("metrics.jsonl");
+    let text = fs::read_to_string(&path).unwrap_or_default();
+    let kept: String = text
+        .lines()
+        .filter(|line| {
+            serde_json::from_str::<serde_json::Value>(line)
+                .ok()
+                .and_then(|v| v.get("step").and_then(|s| s.as_u64()))
+                .is_none_or(|s| s as usize <= step)
+        })
+        .flat_map(|line| [line, "\n"])
+        .collect();
+    if kept.len() != text.len() {
+        write_atomic(&path, kept.as_bytes())?;
+    }
+    Ok(fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(path)?)
+}
+
 /// A `[1]` tensor's value (NaN when it cannot be read back).
 pub(crate) fn scalar(t: Tensor<1>) -> f64 {
     t.try_into_data()
@@ -166,14 +219,104 @@ pub(crate) fn scalar(t: Tensor<1>) -> f64 {
         .unwrap_or(f64::NAN)
 }
 
-/// Standard-normal noise from the run's RNG (so a resumed run draws the same numbers).
-/// `ema = decay ema + (1 - decay) current`, tensor by tensor.
-pub(crate) fn ema_update(ema: &mut TensorMap, current: &TensorMap, decay: f32) {
-    for (name, (_, values)) in ema.tensors.iter_mut() {
-        let (_, cur) = &current.tensors[name];
-        for (e, c) in values.iter_mut().zip(cur) {
-            *e = decay * *e + (1.0 - decay) * c;
-        }
+/// An exponential moving average of a module's parameters, kept on the device (flattened, by
+/// reference name), so a training step reads nothing back to the host; converted to a
+/// [`TensorMap`] only for checkpoints and the final weights.
+pub(crate) struct DeviceEma {
+    decay: f32,
+    values: BTreeMap<String, Tensor<1>>,
+}
+
+/// Visits a module's parameters by reference name.
+struct EmaVisitor<'a> {
+    path: Vec<String>,
+    decay: Option<f32>,
+    values: &'a mut BTreeMap<String, Tensor<1>>,
+}
+
+impl ModuleVisitor for EmaVisitor<'_> {
+    fn enter_module(&mut self, name: &str, _container: &str) {
+        self.path.push(name.to_string());
+    }
+
+    fn exit_module(&mut self, _name: &str, _container: &str) {
+        self.path.pop();
+    }
+
+    fn visit_float<const D: usize>(&mut self, param: &Param<Tensor<D>>) {
+        let value = param.val().inner();
+        let numel = value.dims().iter().product::<usize>();
+        let value = value.reshape([numel]);
+        let name = reference_name(&self.path);
+        let next = match (self.values.remove(&name), self.decay) {
+            (Some(ema), Some(decay)) => ema * decay + value * (1.0 - decay),
+            _ => value,
+        };
+        self.values.insert(name, next);
+    }
+}
+
+/// Puts EMA values into a module's parameters.
+struct EmaSetter<'a> {
+    path: Vec<String>,
+    values: &'a BTreeMap<String, Tensor<1>>,
+}
+
+impl ModuleMapper for EmaSetter<'_> {
+    fn enter_module(&mut self, name: &str, _container: &str) {
+        self.path.push(name.to_string());
+    }
+
+    fn exit_module(&mut self, _name: &str, _container: &str) {
+        self.path.pop();
+    }
+
+    fn map_float<const D: usize>(&mut self, param: Param<Tensor<D>>) -> Param<Tensor<D>> {
+        let Some(ema) = self.values.get(&reference_name(&self.path)) else {
+            return param;
+        };
+        param.map(|value| Tensor::from_inner(ema.clone().reshape(value.dims())).require_grad())
+    }
+}
+
+impl DeviceEma {
+    /// An EMA that starts at `module`'s current parameters (an autodiff module).
+    pub fn new<M: Module>(module: &M, decay: f32) -> Self {
+        let mut values = BTreeMap::new();
+        module.visit(&mut EmaVisitor {
+            path: Vec::new(),
+            decay: None,
+            values: &mut values,
+        });
+        Self { decay, values }
+    }
+
+    /// `ema = decay ema + (1 - decay) current`, parameter by parameter, on the device.
+    pub fn update<M: Module>(&mut self, module: &M) {
+        module.visit(&mut EmaVisitor {
+            path: Vec::new(),
+            decay: Some(self.decay),
+            values: &mut self.values,
+        });
+    }
+
+    /// The averaged parameters under their reference names, laid out like `module`'s.
+    pub fn to_map<M: Module>(&self, module: &M) -> TensorMap {
+        let averaged = module.clone().map(&mut EmaSetter {
+            path: Vec::new(),
+            values: &self.values,
+        });
+        module_tensors(&averaged)
+    }
+
+    /// An EMA restored from a checkpoint's map, laid out like `module`.
+    pub fn from_map<M: Module>(
+        module: &M,
+        map: &TensorMap,
+        decay: f32,
+    ) -> Result<Self, TrainError> {
+        let loaded = load_module(module.clone(), map, &|_| false)?;
+        Ok(Self::new(&loaded, decay))
     }
 }
 

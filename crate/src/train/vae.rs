@@ -1,5 +1,6 @@
-//! MeshVAE training: batches of vertex tokens, the paper's losses, AdamW with warm-up and
-//! cosine decay, optional EMA, checkpoints that resume exactly, and a JSON-lines metrics log.
+//! MeshVAE training: batches of vertex tokens (one length bucket per batch), the paper's
+//! losses, and a step profiler; the loop itself (schedule, AdamW, EMA, checkpoints, metrics)
+//! is [`super::run`], shared with the DiT.
 //!
 //! Losses (DESIGN.md section 2), each averaged per mesh and then over the batch:
 //! - mask: binary cross-entropy of the mask logits against real/padding, over all N tokens;
@@ -9,29 +10,29 @@
 //!   real i < j;
 //! - KL: `0.5 mean(mu^2 + exp(logvar) - 1 - logvar)` over latent channels, weight 1e-3.
 
-use std::io::Write;
 use std::path::Path;
 use std::time::Instant;
 
-use burn::module::Module;
 use burn::optim::GradientsParams;
 use burn::tensor::activation::softplus;
 use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::{TrainError, TrainObserver, ema_update, open_run, scalar, warmup_cosine};
+use super::run::{Schedule, StepOutcome, Task, run_training};
+use super::{DeviceEma, TrainError, TrainObserver, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
-use crate::model::weights::{TensorMap, WeightsError, load_module};
-use crate::model::{MeshVae, Trace, VaeConfig, module_tensors, seeded_init, spacetime_distances};
+use crate::model::weights::{TensorMap, WeightsError};
+use crate::model::{MeshVae, Trace, VaeConfig, seeded_init, spacetime_distances};
 use crate::rng::Rng;
 use crate::tokens::{VertexTokens, build_tokens};
 
 /// Everything that defines a training run; saved in the checkpoint and the weights manifest.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct VaeTrainConfig {
     pub model: VaeConfig,
     pub batch_size: usize,
@@ -79,6 +80,38 @@ impl VaeTrainConfig {
             eval_every: 500,
             augment: true,
             scale_jitter: 0.1,
+        }
+    }
+
+    /// Checks the model's sizes and the schedule before any step runs; the message names the
+    /// offending field.
+    pub fn validate(&self) -> Result<(), String> {
+        self.model.validate()?;
+        super::check_schedule(
+            &[
+                ("batch_size", self.batch_size),
+                ("steps", self.steps),
+                ("checkpoint_every", self.checkpoint_every),
+                ("eval_every", self.eval_every),
+            ],
+            self.learning_rate,
+            self.ema_decay,
+        )
+    }
+
+    /// The schedule part, for [`run_training`].
+    pub fn schedule(&self) -> Schedule {
+        Schedule {
+            steps: self.steps,
+            learning_rate: self.learning_rate,
+            warmup_steps: self.warmup_steps,
+            final_lr_ratio: self.final_lr_ratio,
+            weight_decay: self.weight_decay,
+            grad_clip: self.grad_clip,
+            ema_decay: self.ema_decay,
+            seed: self.seed,
+            checkpoint_every: self.checkpoint_every,
+            eval_every: self.eval_every,
         }
     }
 
@@ -168,10 +201,63 @@ pub fn vae_losses(
     noise: Tensor<3>,
     cfg: &VaeTrainConfig,
 ) -> VaeLosses {
+    vae_losses_timed(vae, batch, noise, cfg, &mut Laps::off())
+}
+
+/// Wall-clock laps through the parts of a training step (for `meshflow bench train-vae`);
+/// [`Laps::off`] records nothing. Burn's CPU backend runs eagerly, so a lap is the time of the
+/// operations issued since the previous one.
+pub struct Laps {
+    on: bool,
+    last: Instant,
+    /// (part, seconds), in order; a part may appear several times.
+    pub parts: Vec<(&'static str, f64)>,
+}
+
+impl Laps {
+    /// Laps that record.
+    pub fn on() -> Self {
+        Self {
+            on: true,
+            last: Instant::now(),
+            parts: Vec::new(),
+        }
+    }
+
+    /// Laps that record nothing.
+    pub fn off() -> Self {
+        Self {
+            on: false,
+            last: Instant::now(),
+            parts: Vec::new(),
+        }
+    }
+
+    /// Ends the current part, named `part`.
+    pub fn lap(&mut self, part: &'static str) {
+        if self.on {
+            let now = Instant::now();
+            self.parts.push((part, (now - self.last).as_secs_f64()));
+            self.last = now;
+        }
+    }
+}
+
+/// [`vae_losses`] with a lap after the encoder, the decoder, the pairwise adjacency term and the
+/// other loss terms.
+pub fn vae_losses_timed(
+    vae: &MeshVae,
+    batch: &VaeBatch,
+    noise: Tensor<3>,
+    cfg: &VaeTrainConfig,
+    laps: &mut Laps,
+) -> VaeLosses {
     let posterior = vae.encode(batch.features.clone(), &mut Trace::default());
     let std = (posterior.logvar.clone() * 0.5).exp();
     let z = posterior.mean.clone() + std * noise;
+    laps.lap("encoder");
     let out = vae.decode(z, &mut Trace::default());
+    laps.lap("decoder");
 
     let real = batch.real.clone();
     let num_real = per_mesh(real.clone()).clamp_min(1.0);
@@ -186,6 +272,7 @@ pub fn vae_losses(
     };
     let position = squared(out.positions, batch.positions.clone());
     let normal = squared(out.normals, batch.normals.clone());
+    laps.lap("loss: mask, position, normal");
 
     let tau = cfg.model.tau as f64;
     let d = spacetime_distances(out.edge_embeddings);
@@ -193,6 +280,7 @@ pub fn vae_losses(
     let neg = per_mesh(softplus(d - tau, 1.0) * batch.non_edges.clone());
     let num_edges = per_mesh(batch.edges.clone()).clamp_min(1.0);
     let adjacency = ((pos + neg * cfg.lambda_neg) / num_edges).mean();
+    laps.lap("adjacency: pairwise distances and loss");
 
     let kl = ((posterior.mean.square() + posterior.logvar.clone().exp() - 1.0 - posterior.logvar)
         * 0.5)
@@ -202,6 +290,7 @@ pub fn vae_losses(
         + normal.clone() * cfg.normal_weight
         + adjacency.clone()
         + kl.clone() * cfg.kl_weight;
+    laps.lap("loss: KL and total");
     VaeLosses {
         total,
         mask,
@@ -212,22 +301,6 @@ pub fn vae_losses(
     }
 }
 
-/// Progress of one step, for a progress bar and the metrics log.
-#[derive(Clone, Debug, Serialize)]
-pub struct StepLog {
-    pub step: usize,
-    pub lr: f64,
-    pub loss: f64,
-    pub mask: f64,
-    pub position: f64,
-    pub normal: f64,
-    pub adjacency: f64,
-    pub kl: f64,
-    pub grad_norm: f64,
-    pub meshes_per_s: f64,
-    pub elapsed_s: f64,
-}
-
 /// Validation figures: losses with the posterior mean, and edge precision/recall/F1 of the
 /// thresholded spacetime distances among the real vertices.
 #[derive(Clone, Debug, Serialize)]
@@ -235,22 +308,13 @@ pub struct ValLog {
     pub step: usize,
     pub val_loss: f64,
     pub val_position: f64,
+    /// Mean squared error of the unit normals (the normal loss term).
+    pub val_normal: f64,
     pub val_adjacency: f64,
     pub edge_precision: f64,
     pub edge_recall: f64,
     pub edge_f1: f64,
     pub mask_accuracy: f64,
-}
-
-#[derive(Serialize, Deserialize)]
-struct TrainState {
-    config: VaeTrainConfig,
-    /// Steps done.
-    step: usize,
-    rng: u64,
-    /// Position in the shuffled epoch order.
-    cursor: usize,
-    epoch: usize,
 }
 
 /// What training produced.
@@ -263,7 +327,171 @@ pub struct TrainedVae {
 
 /// Tokens of `mesh` for the model (None when it has too many vertices or is invalid).
 fn tokens_of(mesh: &Mesh, cfg: &VaeConfig, seed: u64) -> Option<VertexTokens> {
-    build_tokens(mesh, &cfg.tokens(), seed).ok()
+    build_tokens(mesh, &cfg.tokens_for(mesh.positions.len()), seed).ok()
+}
+
+/// A training mesh's tokens: augmented (rotation about Y, scale jitter) when the
+/// configuration asks for it. None when the mesh does not fit.
+fn training_tokens(mesh: &Mesh, cfg: &VaeTrainConfig, rng: &mut Rng) -> Option<VertexTokens> {
+    let augmented;
+    let mesh = if cfg.augment {
+        let opts = AugmentOptions {
+            rotate: true,
+            scale_jitter: cfg.scale_jitter,
+            points: 0,
+        };
+        augmented = augment_mesh(mesh, &opts, rng).0;
+        &augmented
+    } else {
+        mesh
+    };
+    tokens_of(mesh, &cfg.model, rng.next_u64())
+}
+
+/// The batches of one epoch, as indices into the training meshes (given by their vertex
+/// counts): a shuffle seeded by (seed, epoch), grouped by vertex-slot bucket
+/// ([`VaeConfig::slots_for`]; one bucket without length buckets), cut into batches of
+/// `batch_size` (a bucket's remainder makes one smaller batch), and the batches shuffled. A
+/// function of (seed, epoch) alone, so a resumed run needs only its position in the list.
+pub fn epoch_batches(
+    vertex_counts: &[usize],
+    cfg: &VaeTrainConfig,
+    epoch: usize,
+) -> Vec<Vec<usize>> {
+    let mut rng = Rng::new(cfg.seed ^ (epoch as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+    let mut order: Vec<usize> = (0..vertex_counts.len()).collect();
+    rng.shuffle(&mut order);
+    let mut buckets: std::collections::BTreeMap<usize, Vec<usize>> = Default::default();
+    for i in order {
+        buckets
+            .entry(cfg.model.slots_for(vertex_counts[i]))
+            .or_default()
+            .push(i);
+    }
+    let mut batches: Vec<Vec<usize>> = buckets
+        .values()
+        .flat_map(|b| b.chunks(cfg.batch_size.max(1)).map(<[usize]>::to_vec))
+        .collect();
+    rng.shuffle(&mut batches);
+    batches
+}
+
+/// One optimiser step on a batch of token sets (on the autodiff `device`): losses, backward,
+/// clipped AdamW at `lr`.
+/// Returns the updated model, the loss terms and the gradient norm before clipping.
+#[allow(clippy::too_many_arguments)]
+fn optimiser_step(
+    vae: MeshVae,
+    tokens: &[VertexTokens],
+    cfg: &VaeTrainConfig,
+    optim: &AdamW,
+    optim_state: &mut AdamWState,
+    lr: f64,
+    rng: &mut Rng,
+    device: &Device,
+    laps: &mut Laps,
+) -> (MeshVae, VaeLosses, f64) {
+    let batch = make_batch(tokens, device);
+    let latents = tokens[0].mask.len() / cfg.model.merge_ratio();
+    let noise = normal_noise(rng, [tokens.len(), latents, cfg.model.latent_dim], device);
+    laps.lap("batch: dense tensors to the device");
+    let losses = vae_losses_timed(&vae, &batch, noise, cfg, laps);
+    let grads = losses.total.backward();
+    laps.lap("backward");
+    let grads = GradientsParams::from_grads(grads, &vae);
+    let (updated, grad_norm) = optim.step(optim_state, vae, grads, lr);
+    laps.lap("optimizer (clip + AdamW)");
+    (updated, losses, grad_norm)
+}
+
+/// Where a training step's time goes: [`profile_vae_step`]'s result.
+pub struct StepProfile {
+    /// `(part, mean seconds per step)`, in step order.
+    pub parts: Vec<(&'static str, f64)>,
+    /// Mean meshes per step (a length bucket's last batch may be smaller).
+    pub meshes_per_step: f64,
+    /// Mean matrix-product FLOPs per step: forward and backward, 3x
+    /// [`VaeConfig::forward_flops`] at each batch's slot count.
+    pub flops_per_step: f64,
+}
+
+/// Mean wall time of each part of a training step of `cfg` on `meshes` (model frame), over
+/// `steps` steps after one warm-up step, on `device` (its autodiff twin runs the step), with
+/// the training loop's batching (length buckets when configured). Parts: token building with
+/// augmentation, dense batch tensors, encoder, decoder, the loss terms, the pairwise adjacency
+/// term, backward, the optimiser, the EMA and the loss read-back of the training loop.
+pub fn profile_vae_step(
+    cfg: &VaeTrainConfig,
+    meshes: &[Mesh],
+    device: &Device,
+    steps: usize,
+) -> Result<StepProfile, TrainError> {
+    let meshes: Vec<&Mesh> = meshes
+        .iter()
+        .filter(|m| !m.positions.is_empty() && m.positions.len() <= cfg.model.num_vertices)
+        .collect();
+    if meshes.is_empty() {
+        return Err(TrainError::NoData(cfg.model.num_vertices));
+    }
+    let ad_device = device.clone().autodiff();
+    let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
+    let optim = AdamW::new(cfg.weight_decay, cfg.grad_clip);
+    let mut optim_state = AdamWState::default();
+    let mut ema = cfg.ema_decay.map(|decay| DeviceEma::new(&vae, decay));
+    let mut rng = Rng::new(cfg.seed);
+    let mut totals: Vec<(&'static str, f64)> = Vec::new();
+    let vertex_counts: Vec<usize> = meshes.iter().map(|m| m.positions.len()).collect();
+    let batches = epoch_batches(&vertex_counts, cfg, 0);
+    let (mut meshes_total, mut flops_total) = (0.0, 0.0);
+    for step in 0..=steps {
+        let mut laps = Laps::on();
+        let tokens: Vec<VertexTokens> = batches[step % batches.len()]
+            .iter()
+            .filter_map(|&i| training_tokens(meshes[i], cfg, &mut rng))
+            .collect();
+        laps.lap("data: augment + tokens");
+        let lr = cfg.lr_at(step);
+        let (updated, losses, _) = optimiser_step(
+            vae,
+            &tokens,
+            cfg,
+            &optim,
+            &mut optim_state,
+            lr,
+            &mut rng,
+            &ad_device,
+            &mut laps,
+        );
+        vae = updated;
+        if let Some(ema) = ema.as_mut() {
+            ema.update(&vae);
+        }
+        laps.lap("EMA (on the device)");
+        for t in [losses.total, losses.mask, losses.position, losses.normal] {
+            scalar(t);
+        }
+        laps.lap("loss read-back");
+        if step == 0 {
+            continue;
+        }
+        meshes_total += tokens.len() as f64;
+        flops_total += 3.0 * tokens.len() as f64 * cfg.model.forward_flops(tokens[0].mask.len());
+        for (part, s) in laps.parts {
+            match totals.iter_mut().find(|(p, _)| *p == part) {
+                Some((_, t)) => *t += s,
+                None => totals.push((part, s)),
+            }
+        }
+    }
+    let steps = steps.max(1) as f64;
+    for (_, t) in totals.iter_mut() {
+        *t /= steps;
+    }
+    Ok(StepProfile {
+        parts: totals,
+        meshes_per_step: meshes_total / steps,
+        flops_per_step: flops_total / steps,
+    })
 }
 
 /// Validation on up to `limit` meshes, batch by batch, with the posterior mean.
@@ -274,7 +502,7 @@ pub fn validate(
     device: &Device,
     step: usize,
 ) -> Option<ValLog> {
-    let tokens: Vec<VertexTokens> = meshes
+    let mut tokens: Vec<VertexTokens> = meshes
         .iter()
         .enumerate()
         .filter_map(|(i, m)| tokens_of(m, &cfg.model, i as u64))
@@ -282,16 +510,24 @@ pub fn validate(
     if tokens.is_empty() {
         return None;
     }
-    let (mut loss, mut position, mut adjacency, mut batches) = (0.0, 0.0, 0.0, 0.0);
+    // Batches hold one length each (length buckets); the figures are pooled, so order is free.
+    tokens.sort_by_key(|t| t.mask.len());
+    let (mut loss, mut position, mut normal, mut adjacency, mut batches) =
+        (0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut tp, mut fp, mut fn_, mut mask_ok, mut mask_total) =
         (0usize, 0usize, 0usize, 0usize, 0usize);
-    let latents = cfg.model.num_latents;
-    for chunk in tokens.chunks(cfg.batch_size.max(1)) {
+    let chunks = tokens
+        .chunk_by(|a, b| a.mask.len() == b.mask.len())
+        .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
+    for chunk in chunks {
+        let n = chunk[0].mask.len();
+        let latents = n / cfg.model.merge_ratio();
         let batch = make_batch(chunk, device);
         let zeros = Tensor::zeros([chunk.len(), latents, cfg.model.latent_dim], device);
         let l = vae_losses(vae, &batch, zeros, cfg);
         loss += scalar(l.total);
         position += scalar(l.position);
+        normal += scalar(l.normal);
         adjacency += scalar(l.adjacency);
         batches += 1.0;
         let posterior = vae.encode(batch.features, &mut Trace::default());
@@ -309,7 +545,6 @@ pub fn validate(
             .convert::<f32>()
             .try_into_vec::<f32>()
             .ok()?;
-        let n = cfg.model.num_vertices;
         for (k, t) in chunk.iter().enumerate() {
             let mut predicted = Vec::new();
             for i in 0..t.num_real {
@@ -340,6 +575,7 @@ pub fn validate(
         step,
         val_loss: loss / batches,
         val_position: position / batches,
+        val_normal: normal / batches,
         val_adjacency: adjacency / batches,
         edge_precision: precision,
         edge_recall: recall,
@@ -348,9 +584,112 @@ pub fn validate(
     })
 }
 
+/// Where a VAE run stands in its data: the epoch and the next batch of its list.
+#[derive(Default, Serialize, Deserialize)]
+pub struct EpochPosition {
+    cursor: usize,
+    epoch: usize,
+}
+
+/// The MeshVAE's part of [`run_training`]: batches from [`epoch_batches`], the paper's losses.
+struct VaeTask<'a> {
+    cfg: &'a VaeTrainConfig,
+    train: Vec<&'a Mesh>,
+    val: &'a [Mesh],
+    vertex_counts: Vec<usize>,
+    /// The batch list of `batches_epoch`.
+    batches: Vec<Vec<usize>>,
+    batches_epoch: Option<usize>,
+    ad_device: Device,
+    device: Device,
+}
+
+impl VaeTask<'_> {
+    fn batches_of(&mut self, epoch: usize) {
+        if self.batches_epoch != Some(epoch) {
+            self.batches = epoch_batches(&self.vertex_counts, self.cfg, epoch);
+            self.batches_epoch = Some(epoch);
+        }
+    }
+}
+
+impl Task for VaeTask<'_> {
+    type Model = MeshVae;
+    type Position = EpochPosition;
+    type Validation = ValLog;
+    const THROUGHPUT: &'static str = "meshes_per_s";
+
+    fn step(
+        &mut self,
+        model: MeshVae,
+        position: &mut EpochPosition,
+        rng: &mut Rng,
+        (optim, optim_state): (&AdamW, &mut AdamWState),
+        lr: f64,
+    ) -> (MeshVae, Option<StepOutcome>) {
+        self.batches_of(position.epoch);
+        if position.cursor == self.batches.len() {
+            position.epoch += 1;
+            position.cursor = 0;
+            self.batches_of(position.epoch);
+        }
+        let tokens: Vec<VertexTokens> = self.batches[position.cursor]
+            .iter()
+            .filter_map(|&i| training_tokens(self.train[i], self.cfg, rng))
+            .collect();
+        position.cursor += 1;
+        if tokens.is_empty() {
+            return (model, None);
+        }
+        let (model, losses, grad_norm) = optimiser_step(
+            model,
+            &tokens,
+            self.cfg,
+            optim,
+            optim_state,
+            lr,
+            rng,
+            &self.ad_device,
+            &mut Laps::off(),
+        );
+        let loss = scalar(losses.total);
+        let terms = vec![
+            ("mask", scalar(losses.mask)),
+            ("position", scalar(losses.position)),
+            ("normal", scalar(losses.normal)),
+            ("adjacency", scalar(losses.adjacency)),
+            ("kl", scalar(losses.kl)),
+        ];
+        let summary = format!(
+            "loss {loss:.4} (adj {:.4}, pos {:.2e})",
+            terms[3].1, terms[1].1
+        );
+        let outcome = StepOutcome {
+            loss,
+            grad_norm,
+            examples: tokens.len(),
+            terms,
+            summary,
+        };
+        (model, Some(outcome))
+    }
+
+    fn validate(&self, model: &MeshVae, step: usize) -> Option<ValLog> {
+        validate(model, self.val, self.cfg, &self.device, step)
+    }
+
+    fn describe(v: &ValLog) -> String {
+        format!(
+            "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
+            v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
+        )
+    }
+}
+
 /// Trains a VAE on `train` (model-frame meshes), validating on `val`, writing checkpoints and
-/// `metrics.jsonl` under `out_dir`. A checkpoint already in `out_dir/checkpoint` with the same
-/// configuration is resumed: the run continues exactly as if it had not stopped.
+/// `metrics.jsonl` under `out_dir` ([`run_training`]). A checkpoint already in
+/// `out_dir/checkpoint` with the same configuration is resumed: the run continues exactly as if
+/// it had not stopped.
 pub fn train_vae(
     cfg: &VaeTrainConfig,
     train: &[Mesh],
@@ -359,8 +698,7 @@ pub fn train_vae(
     device: &Device,
     observer: &mut dyn TrainObserver,
 ) -> Result<TrainedVae, TrainError> {
-    cfg.model
-        .validate()
+    cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
     let train: Vec<&Mesh> = train
         .iter()
@@ -369,140 +707,30 @@ pub fn train_vae(
     if train.is_empty() {
         return Err(TrainError::NoData(cfg.model.num_vertices));
     }
-    let (paths, mut log) = open_run(out_dir)?;
     let ad_device = device.clone().autodiff();
-
-    let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
-    let optim = AdamW::new(cfg.weight_decay, cfg.grad_clip);
-    let mut optim_state = AdamWState::default();
-    let mut state = TrainState {
-        config: cfg.clone(),
-        step: 0,
-        rng: cfg.seed,
-        cursor: 0,
-        epoch: 0,
+    let vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
+    let mut task = VaeTask {
+        cfg,
+        vertex_counts: train.iter().map(|m| m.positions.len()).collect(),
+        train,
+        val,
+        batches: Vec::new(),
+        batches_epoch: None,
+        ad_device,
+        device: device.clone(),
     };
-    let mut ema: Option<TensorMap> = None;
-    if let Some(r) = paths.restore(
-        |saved: &TrainState| saved.config == *cfg,
-        |saved| saved.step,
-        cfg.ema_decay.is_some(),
+    let trained = run_training(
+        &mut task,
+        cfg,
+        &cfg.schedule(),
+        vae,
+        out_dir,
         device,
-    )? {
-        vae = load_module(vae, &r.model, &|_| false)?;
-        optim_state = r.optim;
-        ema = r.ema;
-        state = r.state;
-    }
-    if cfg.ema_decay.is_some() && ema.is_none() {
-        ema = Some(module_tensors(&vae));
-    }
-
-    let mut rng = Rng::new(state.rng);
-    // The epoch order is a function of (seed, epoch), so resuming needs only the cursor.
-    let order_for = |epoch: usize| {
-        let mut order: Vec<usize> = (0..train.len()).collect();
-        Rng::new(cfg.seed ^ (epoch as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15)).shuffle(&mut order);
-        order
-    };
-    let mut order = order_for(state.epoch);
-    let started = Instant::now();
-    let mut last_val = None;
-    let mut since_log = (Instant::now(), 0usize);
-    while state.step < cfg.steps && !observer.stop() {
-        let mut tokens = Vec::with_capacity(cfg.batch_size);
-        while tokens.len() < cfg.batch_size {
-            if state.cursor == order.len() {
-                state.epoch += 1;
-                state.cursor = 0;
-                order = order_for(state.epoch);
-            }
-            let mesh = train[order[state.cursor]];
-            state.cursor += 1;
-            let mesh = if cfg.augment {
-                let opts = AugmentOptions {
-                    rotate: true,
-                    scale_jitter: cfg.scale_jitter,
-                    points: 0,
-                };
-                augment_mesh(mesh, &opts, &mut rng).0
-            } else {
-                mesh.clone()
-            };
-            if let Some(t) = tokens_of(&mesh, &cfg.model, rng.next_u64()) {
-                tokens.push(t);
-            }
-        }
-        let batch = make_batch(&tokens, &ad_device);
-        let noise = normal_noise(
-            &mut rng,
-            [cfg.batch_size, cfg.model.num_latents, cfg.model.latent_dim],
-            &ad_device,
-        );
-        let losses = vae_losses(&vae, &batch, noise, cfg);
-        let grads = GradientsParams::from_grads(losses.total.backward(), &vae);
-        let lr = cfg.lr_at(state.step);
-        let (updated, grad_norm) = optim.step(&mut optim_state, vae, grads, lr);
-        vae = updated;
-        state.step += 1;
-        let total = scalar(losses.total);
-        if !total.is_finite() {
-            return Err(TrainError::Diverged(total, state.step));
-        }
-        if let (Some(ema), Some(decay)) = (ema.as_mut(), cfg.ema_decay) {
-            ema_update(ema, &module_tensors(&vae), decay);
-        }
-        since_log.1 += cfg.batch_size;
-        let step_log = StepLog {
-            step: state.step,
-            lr,
-            loss: total,
-            mask: scalar(losses.mask),
-            position: scalar(losses.position),
-            normal: scalar(losses.normal),
-            adjacency: scalar(losses.adjacency),
-            kl: scalar(losses.kl),
-            grad_norm,
-            meshes_per_s: since_log.1 as f64 / since_log.0.elapsed().as_secs_f64().max(1e-9),
-            elapsed_s: started.elapsed().as_secs_f64(),
-        };
-        if state.step.is_multiple_of(10) {
-            since_log = (Instant::now(), 0);
-        }
-        writeln!(
-            log,
-            "{}",
-            serde_json::to_string(&step_log).expect("serialisable")
-        )?;
-        observer.step(
-            state.step,
-            &format!(
-                "loss {:.4} (adj {:.4}, pos {:.2e}) {:.1} meshes/s",
-                step_log.loss, step_log.adjacency, step_log.position, step_log.meshes_per_s
-            ),
-        );
-        let last = state.step == cfg.steps;
-        if state.step.is_multiple_of(cfg.eval_every.max(1)) || last {
-            let model = vae.valid();
-            if let Some(v) = validate(&model, val, cfg, device, state.step) {
-                writeln!(log, "{}", serde_json::to_string(&v).expect("serialisable"))?;
-                observer.note(&format!(
-                    "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
-                    v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
-                ));
-                last_val = Some(v);
-            }
-        }
-        if state.step.is_multiple_of(cfg.checkpoint_every.max(1)) || last || observer.stop() {
-            state.rng = rng.next_u64();
-            rng = Rng::new(state.rng);
-            paths.save(&module_tensors(&vae), &optim_state, ema.as_ref(), &state)?;
-        }
-    }
-    let weights = ema.unwrap_or_else(|| module_tensors(&vae));
+        observer,
+    )?;
     Ok(TrainedVae {
-        weights,
-        steps: state.step,
-        last_val,
+        weights: trained.weights,
+        steps: trained.steps,
+        last_val: trained.last_validation,
     })
 }
