@@ -205,7 +205,7 @@ $('generate').addEventListener('click', () => {
       vertices: num('vertices'),
       steps: num('steps'),
       seed: num('seed'),
-      dropNonManifold: $('drop-non-manifold').checked,
+      extraction: $('extraction').value,
     },
     [copy.buffer],
   );

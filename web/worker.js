@@ -29,7 +29,7 @@ self.onmessage = async ({ data }) => {
         vertices: data.vertices,
         steps: data.steps,
         seed: data.seed,
-        dropNonManifold: data.dropNonManifold,
+        extraction: data.extraction,
         signal: abort.signal,
         onStep: (i, n) => post({ type: 'step', i, n }),
       });

@@ -1,20 +1,33 @@
-//! Extraction from ground-truth edges on icospheres and the spacetime threshold on N x 32
-//! embeddings: the two figures DESIGN.md section 4 compares with the reference.
+//! Extraction (Algorithm 1 and the manifold method) from ground-truth edges on icospheres and
+//! from over-connected sphere graphs, and the spacetime threshold on N x 32 embeddings.
 //! Run: `cargo bench -p meshflow --bench extract` (add `--features wgpu` for the WGSL kernel on
 //! Vulkan). The CPU kernels are single-threaded by construction.
 
 use criterion::{BenchmarkId, Criterion, criterion_group, criterion_main};
-use meshflow::extract::{TAU, spacetime_edges};
-use meshflow::workloads::{icosphere_edges, random_embeddings};
+use meshflow::extract::{ExtractMethod, TAU, spacetime_edges};
+use meshflow::workloads::{icosphere_edges, over_connected_sphere, random_embeddings};
 
 fn extraction(c: &mut Criterion) {
-    let mut group = c.benchmark_group("extract_from_edges");
-    for subdivisions in 2..=5 {
-        let w = icosphere_edges(subdivisions);
-        let id = BenchmarkId::from_parameter(w.positions.len());
-        group.bench_with_input(id, &w, |b, w| b.iter(|| w.extract()));
+    for (name, method) in [
+        ("paper", ExtractMethod::Paper),
+        ("manifold", ExtractMethod::Manifold),
+    ] {
+        let mut group = c.benchmark_group(format!("extract_from_edges_{name}"));
+        for subdivisions in 2..=5 {
+            let w = icosphere_edges(subdivisions);
+            let id = BenchmarkId::from_parameter(w.positions.len());
+            group.bench_with_input(id, &w, |b, w| b.iter(|| w.extract(method)));
+        }
+        group.finish();
+        // What the manifold method is for: a graph whose cliques overlap everywhere.
+        let mut group = c.benchmark_group(format!("extract_over_connected_{name}"));
+        for n in [512, 2048] {
+            let w = over_connected_sphere(n, 8);
+            let id = BenchmarkId::from_parameter(n);
+            group.bench_with_input(id, &w, |b, w| b.iter(|| w.extract(method)));
+        }
+        group.finish();
     }
-    group.finish();
 }
 
 fn threshold(c: &mut Criterion) {

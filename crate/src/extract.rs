@@ -1,4 +1,12 @@
-//! Mesh extraction, the paper's Algorithm 1: decoded vertices -> edges -> faces -> mesh.
+//! Mesh extraction: decoded vertices -> edges -> faces -> mesh.
+//!
+//! Two methods share steps 1, 2 and 7 below. The default, [`ExtractMethod::Manifold`], takes
+//! the 3-cliques of step 3 as candidates and accepts them best-first by the model's edge
+//! margins into a manifold, consistently wound mesh, then fills small holes and drops tiny
+//! pieces ([`crate::manifold`]). On edge embeddings its candidates come from the pairs above
+//! `tau - candidate_slack` (default 0.3): those with an edge below tau rank after all the
+//! others and only close gaps where the decoder missed an edge. [`ExtractMethod::Paper`] is the paper's Algorithm 1 exactly
+//! (steps 1-7), for comparing with the paper and the reference:
 //!
 //! 1. Keep the vertices whose mask logit is > 0 and clamp their normals to [-1, 1].
 //! 2. Edges: vertices i < j are joined iff their spacetime distance exceeds `tau` (0.6):
@@ -26,24 +34,48 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::manifold::{ManifoldOptions, manifold_faces};
 use crate::topology::{self, Edge, EdgeIncidence, boundary_loops, face_edges, sorted_face};
 
 /// The paper's edge threshold on the spacetime distance.
 pub const TAU: f32 = 0.6;
 
+/// How edges become faces.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ExtractMethod {
+    /// Candidate 3-cliques accepted best-first into a manifold, consistently wound mesh
+    /// ([`crate::manifold`]); the default.
+    #[default]
+    Manifold,
+    /// The paper's Algorithm 1: every 3-clique is a face.
+    Paper,
+}
+
 /// Options of [`extract_mesh`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct ExtractOptions {
+    /// Manifold (default) or the paper's Algorithm 1.
+    pub method: ExtractMethod,
     /// Spacetime-distance threshold: an edge iff d > tau.
     pub tau: f32,
     /// Fan-fill boundary loops of at most `max_hole_edges` vertices.
     pub fill_holes: bool,
     /// Largest boundary loop (in vertices, = edges) that hole repair fills. Default 4 (quads).
     pub max_hole_edges: usize,
-    /// Drop faces that would make an edge non-manifold (a third face), keeping the
-    /// best-supported ones. Off by default (the paper does not do it).
+    /// Algorithm 1 only: drop faces that would make an edge non-manifold (a third face),
+    /// keeping the best-supported ones. Off by default (the paper does not do it); the manifold
+    /// method never makes such an edge.
     pub drop_non_manifold: bool,
+    /// Manifold method only: remove connected pieces of fewer faces than this (0 or 1 keeps
+    /// every piece).
+    pub min_component_faces: usize,
+    /// Manifold method on edge embeddings only: candidates are the 3-cliques of the pairs with
+    /// `d > tau - candidate_slack`. Faces with an edge below `tau` have a negative score and
+    /// come after every face Algorithm 1 would keep, so they only close gaps that the surer
+    /// faces leave (where the decoder missed an edge). Negative values count as 0.
+    pub candidate_slack: f32,
     /// Remove vertices that no face uses and renumber the rest (keeping their order).
     pub compact: bool,
 }
@@ -51,12 +83,31 @@ pub struct ExtractOptions {
 impl Default for ExtractOptions {
     fn default() -> Self {
         Self {
+            method: ExtractMethod::Manifold,
             tau: TAU,
             fill_holes: true,
             max_hole_edges: 4,
             drop_non_manifold: false,
+            min_component_faces: 2,
+            candidate_slack: 0.3,
             compact: true,
         }
+    }
+}
+
+impl ExtractOptions {
+    /// The paper's Algorithm 1 with its defaults (quads filled, no filter).
+    pub fn paper() -> Self {
+        Self {
+            method: ExtractMethod::Paper,
+            ..Self::default()
+        }
+    }
+
+    /// Whether extraction ranks faces by the edge embeddings' margins, so the embeddings (not
+    /// only an edge list) must reach the host.
+    pub fn uses_margins(&self) -> bool {
+        self.method == ExtractMethod::Manifold || self.drop_non_manifold
     }
 }
 
@@ -68,14 +119,24 @@ pub struct ExtractReport {
     pub kept_vertices: usize,
     /// Distinct edges after dropping self-loops and duplicates.
     pub edges: usize,
-    /// Faces found as 3-cliques.
+    /// Faces found as 3-cliques (the manifold method's candidates).
     pub clique_faces: usize,
+    /// Manifold method: candidates refused because no winding agreed with their neighbours,
+    /// because they folded back onto a neighbour, or because they had no area.
+    pub winding_faces_dropped: usize,
+    pub folded_faces_dropped: usize,
+    pub degenerate_faces_dropped: usize,
+    /// Manifold method: pieces removed for having fewer than `min_component_faces` faces,
+    /// and their faces.
+    pub pieces_dropped: usize,
+    pub piece_faces_dropped: usize,
     /// Boundary loops filled, and the faces that added.
     pub holes_filled: usize,
     pub hole_faces: usize,
     /// Boundary loops left open (longer than `max_hole_edges`, or repair off).
     pub holes_left: usize,
-    /// Faces dropped by the non-manifold filter.
+    /// Faces dropped (Algorithm 1's optional filter) or candidates refused (manifold method)
+    /// because an edge already had two faces.
     pub non_manifold_faces_dropped: usize,
     /// Vertices removed by compaction.
     pub unreferenced_vertices_removed: usize,
@@ -400,8 +461,9 @@ pub fn orient_face(tri: [u32; 3], positions: &[Vec3], normals: &[Vec3]) -> [u32;
     }
 }
 
-/// Algorithm 1 from an edge list: faces from 3-cliques, winding, optional hole repair and
-/// non-manifold filter, compaction. `normals` are clamped to [-1, 1] as the paper does.
+/// Faces from an edge list by `opts.method`: the manifold method over the 3-cliques, or
+/// Algorithm 1 (faces from 3-cliques, winding, optional non-manifold filter and hole repair);
+/// then compaction. `normals` are clamped to [-1, 1] as the paper does.
 pub fn extract_mesh(
     positions: &[Vec3],
     normals: &[Vec3],
@@ -449,6 +511,29 @@ pub fn extract_mesh(
         .iter()
         .map(|&t| orient_face(t, positions, &normals))
         .collect();
+
+    if opts.method == ExtractMethod::Manifold {
+        let scores = face_scores(&faces, positions, &normals, support, opts.tau);
+        let manifold_opts = ManifoldOptions {
+            max_hole_edges: if opts.fill_holes {
+                opts.max_hole_edges
+            } else {
+                0
+            },
+            min_component_faces: opts.min_component_faces,
+        };
+        let (faces, r) = manifold_faces(positions, &faces, &scores, &manifold_opts);
+        report.non_manifold_faces_dropped = r.rejected_non_manifold;
+        report.winding_faces_dropped = r.rejected_winding;
+        report.folded_faces_dropped = r.rejected_fold;
+        report.degenerate_faces_dropped = r.rejected_degenerate;
+        report.holes_filled = r.holes_filled;
+        report.hole_faces = r.hole_faces;
+        report.holes_left = r.holes_left;
+        report.pieces_dropped = r.pieces_dropped;
+        report.piece_faces_dropped = r.piece_faces_dropped;
+        return Ok(finish(positions, normals, faces, opts, report));
+    }
 
     if opts.drop_non_manifold {
         let before = faces.len();
@@ -500,6 +585,17 @@ pub fn extract_mesh(
         }
     }
 
+    Ok(finish(positions, normals, faces, opts, report))
+}
+
+/// Step 7 and the face count: the mesh of `faces`, compacted when asked.
+fn finish(
+    positions: &[Vec3],
+    normals: Vec<Vec3>,
+    faces: Vec<[u32; 3]>,
+    opts: &ExtractOptions,
+    mut report: ExtractReport,
+) -> (Mesh, ExtractReport) {
     let mut mesh = Mesh {
         positions: positions.to_vec(),
         normals,
@@ -509,7 +605,32 @@ pub fn extract_mesh(
         report.unreferenced_vertices_removed = mesh.remove_unreferenced_vertices();
     }
     report.faces = mesh.faces.len();
-    Ok((mesh, report))
+    (mesh, report)
+}
+
+/// How well the model (or, from plain edges, the geometry) supports each face, higher is
+/// better: the smallest margin `d - tau` over its three edges, or `|dot(face normal, mean
+/// vertex normal)|`.
+fn face_scores(
+    faces: &[[u32; 3]],
+    positions: &[Vec3],
+    normals: &[Vec3],
+    support: FaceSupport,
+    tau: f32,
+) -> Vec<f32> {
+    let score = |f: &[u32; 3]| -> f32 {
+        match support {
+            FaceSupport::Geometric => orientation_dot(*f, positions, normals).abs(),
+            FaceSupport::EdgeMargin { embeddings, dim } => {
+                let h = |v: u32| &embeddings[v as usize * dim..(v as usize + 1) * dim];
+                [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]
+                    .iter()
+                    .map(|&(a, b)| spacetime_distance(h(a), h(b)) - tau)
+                    .fold(f32::INFINITY, f32::min)
+            }
+        }
+    };
+    faces.iter().map(score).collect()
 }
 
 /// Greedy non-manifold filter: faces in order of decreasing support (ties by position in the
@@ -526,19 +647,7 @@ fn drop_non_manifold_faces(
     if inc.iter().all(|(_, uses)| uses.len() <= 2) {
         return faces;
     }
-    let score = |f: &[u32; 3]| -> f32 {
-        match support {
-            FaceSupport::Geometric => orientation_dot(*f, positions, normals).abs(),
-            FaceSupport::EdgeMargin { embeddings, dim } => {
-                let h = |v: u32| &embeddings[v as usize * dim..(v as usize + 1) * dim];
-                [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]
-                    .iter()
-                    .map(|&(a, b)| spacetime_distance(h(a), h(b)) - tau)
-                    .fold(f32::INFINITY, f32::min)
-            }
-        }
-    };
-    let scores: Vec<f32> = faces.iter().map(score).collect();
+    let scores = face_scores(&faces, positions, normals, support, tau);
     let mut order: Vec<usize> = (0..faces.len()).collect();
     order.sort_by(|&x, &y| scores[y].total_cmp(&scores[x]).then(x.cmp(&y)));
     let edge_id = |a: u32, b: u32| {
@@ -627,9 +736,9 @@ pub fn edges_from_bits(
     Ok(edges)
 }
 
-/// The whole of Algorithm 1 on decoder outputs: mask, spacetime threshold (on the CPU, or
-/// already done on the GPU), then [`extract_mesh`]. The optional non-manifold filter ranks
-/// faces by edge margin when the embeddings are at hand, and geometrically otherwise.
+/// Extraction on decoder outputs: mask, spacetime threshold (on the CPU, or already done on
+/// the GPU), then [`extract_mesh`]. The manifold method and Algorithm 1's optional filter rank
+/// faces by edge margin when the embeddings are at hand, and geometrically from edge bits.
 pub fn extract_from_decoded(
     decoded: &DecodedVertices,
     opts: &ExtractOptions,
@@ -678,7 +787,11 @@ pub fn extract_from_decoded(
                 .iter()
                 .flat_map(|&i| values[i * dim..(i + 1) * dim].iter().copied())
                 .collect();
-            let edges = spacetime_edges(&embeddings, dim, opts.tau)?;
+            let edge_tau = match opts.method {
+                ExtractMethod::Manifold => opts.tau - opts.candidate_slack.max(0.0),
+                ExtractMethod::Paper => opts.tau,
+            };
+            let edges = spacetime_edges(&embeddings, dim, edge_tau)?;
             let support = FaceSupport::EdgeMargin {
                 embeddings: &embeddings,
                 dim,
@@ -757,7 +870,7 @@ mod tests {
     #[test]
     fn ground_truth_edges_give_back_the_faces() {
         for m in [octahedron(), icosphere(2), grid(3, 3)] {
-            let (out, report) = roundtrip(&m, &ExtractOptions::default());
+            let (out, report) = roundtrip(&m, &ExtractOptions::paper());
             assert_eq!(canonical(&out.faces), canonical(&m.faces));
             assert_eq!(report.holes_left, usize::from(m.faces.len() == 18));
             assert_eq!(report.unreferenced_vertices_removed, 0);
@@ -864,7 +977,7 @@ mod tests {
             &normals,
             &[[0, 9]],
             FaceSupport::Geometric,
-            &ExtractOptions::default(),
+            &ExtractOptions::paper(),
         );
         assert_eq!(
             e.unwrap_err(),
@@ -879,7 +992,7 @@ mod tests {
             &normals[..3],
             &[],
             FaceSupport::Geometric,
-            &ExtractOptions::default(),
+            &ExtractOptions::paper(),
         );
         assert!(matches!(
             e,
@@ -895,7 +1008,7 @@ mod tests {
             &normals,
             &[],
             FaceSupport::Geometric,
-            &ExtractOptions::default(),
+            &ExtractOptions::paper(),
         );
         assert!(matches!(
             e,
@@ -916,7 +1029,7 @@ mod tests {
         let run = |opts: &ExtractOptions| {
             extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, opts).unwrap()
         };
-        let (filled, r) = run(&ExtractOptions::default());
+        let (filled, r) = run(&ExtractOptions::paper());
         assert_eq!(
             (filled.faces.len(), r.holes_filled, r.hole_faces),
             (8, 1, 2)
@@ -924,12 +1037,12 @@ mod tests {
         assert!(TopologyReport::of(&filled).is_clean_closed());
         let (open, r) = run(&ExtractOptions {
             max_hole_edges: 3,
-            ..Default::default()
+            ..ExtractOptions::paper()
         });
         assert_eq!((open.faces.len(), r.holes_left), (6, 1));
         let (open, _) = run(&ExtractOptions {
             fill_holes: false,
-            ..Default::default()
+            ..ExtractOptions::paper()
         });
         assert_eq!(open.faces.len(), 6);
     }
@@ -950,7 +1063,7 @@ mod tests {
         let opts = ExtractOptions {
             drop_non_manifold: true,
             fill_holes: false,
-            ..Default::default()
+            ..ExtractOptions::paper()
         };
         let (kept, r) =
             extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, &opts).unwrap();
@@ -964,7 +1077,7 @@ mod tests {
             FaceSupport::Geometric,
             &ExtractOptions {
                 fill_holes: false,
-                ..Default::default()
+                ..ExtractOptions::paper()
             },
         )
         .unwrap();
@@ -973,6 +1086,49 @@ mod tests {
             all.faces.len(),
             kept.faces.len() + r.non_manifold_faces_dropped
         );
+    }
+
+    #[test]
+    fn candidate_slack_offers_faces_with_an_edge_just_below_tau() {
+        // d(0,1) = 1 and d(1,2) = 1.5 are edges; d(0,2) = 0.5 is just below tau = 0.6.
+        let emb = [
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.0,
+            0.0,
+            0.0,
+            0.0,
+            1.0,
+            0.5f32.sqrt(),
+            0.0,
+        ];
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y];
+        let normals = [Vec3::Z; 3];
+        let decoded = DecodedVertices {
+            mask_logits: &[1.0; 3],
+            positions: &positions,
+            normals: &normals,
+            edges: DecodedEdges::Embeddings {
+                values: &emb,
+                dim: 4,
+            },
+        };
+        let faces = |opts: ExtractOptions| extract_from_decoded(&decoded, &opts).unwrap().0.faces;
+        let manifold = ExtractOptions {
+            min_component_faces: 0,
+            ..Default::default()
+        };
+        assert!((manifold.candidate_slack - 0.3).abs() < 1e-6);
+        assert_eq!(faces(manifold.clone()), vec![[0, 1, 2]]);
+        let strict = ExtractOptions {
+            candidate_slack: 0.0,
+            ..manifold
+        };
+        assert!(faces(strict).is_empty());
+        assert!(faces(ExtractOptions::paper()).is_empty());
     }
 
     #[test]
@@ -1012,7 +1168,7 @@ mod tests {
             normals: &normals,
             edges: DecodedEdges::Embeddings { values: &emb, dim },
         };
-        let (mesh, r) = extract_from_decoded(&decoded, &ExtractOptions::default()).unwrap();
+        let (mesh, r) = extract_from_decoded(&decoded, &ExtractOptions::paper()).unwrap();
         assert_eq!((r.input_vertices, r.kept_vertices, r.edges), (4, 3, 3));
         assert_eq!(mesh.faces, vec![[0, 1, 2]]);
         let bad = DecodedVertices {
@@ -1022,7 +1178,7 @@ mod tests {
             },
             ..decoded
         };
-        assert!(extract_from_decoded(&bad, &ExtractOptions::default()).is_err());
+        assert!(extract_from_decoded(&bad, &ExtractOptions::paper()).is_err());
 
         // The same edges as the GPU kernel's bit matrix give the same mesh.
         let words = [0b110, 0b100, 0, 0];
@@ -1034,7 +1190,7 @@ mod tests {
             ..decoded
         };
         let (bits_mesh, bits_r) =
-            extract_from_decoded(&from_bits, &ExtractOptions::default()).unwrap();
+            extract_from_decoded(&from_bits, &ExtractOptions::paper()).unwrap();
         assert_eq!(bits_mesh, mesh);
         assert_eq!(bits_r, r);
         // A bit that joins the masked-out vertex 3 is a broken matrix, not an edge.
@@ -1047,7 +1203,7 @@ mod tests {
             ..decoded
         };
         assert_eq!(
-            extract_from_decoded(&masked, &ExtractOptions::default()).unwrap_err(),
+            extract_from_decoded(&masked, &ExtractOptions::paper()).unwrap_err(),
             ExtractError::MaskedEdge { a: 0, b: 3 }
         );
         // A non-finite row is named in the decoder's numbering, masked rows included.
@@ -1057,7 +1213,7 @@ mod tests {
             positions: &nan,
             ..decoded
         };
-        let err = extract_from_decoded(&bad, &ExtractOptions::default()).unwrap_err();
+        let err = extract_from_decoded(&bad, &ExtractOptions::paper()).unwrap_err();
         assert_eq!(
             err,
             ExtractError::NonFinite {

@@ -379,8 +379,8 @@ impl Generator<'_> {
     }
 
     /// Stage 3: de-normalises sampled latents with the VAE manifest's mean/std and decodes.
-    /// On a wgpu device the spacetime threshold runs there too, unless `extract` asks for the
-    /// non-manifold filter, which ranks faces by the embeddings' margins on the host.
+    /// On a wgpu device the spacetime threshold runs there too, unless `extract` ranks faces by
+    /// the embeddings' margins (the default manifold method does), which it does on the host.
     pub fn decode(&self, latents: Tensor<3>, extract: &ExtractOptions) -> DecodedDevice {
         let d = self.vae_config.latent_dim;
         let channel = |v: &[f32]| {
@@ -388,7 +388,7 @@ impl Generator<'_> {
         };
         let latents = latents * channel(self.latent_std) + channel(self.latent_mean);
         let out = self.vae.decode(latents, &mut Trace::default());
-        let edges = if extract.drop_non_manifold {
+        let edges = if extract.uses_margins() {
             DeviceEdges::Embeddings(out.edge_embeddings)
         } else {
             edges_on_device(out.edge_embeddings, out.mask_logits.clone(), extract.tau)

@@ -21,7 +21,10 @@
 //! - [`sample`]: seeded area-uniform surface sampling.
 //! - [`voxel`]: voxel indices at resolution 32 for the DiT's RoPE-3D.
 //! - [`tokens`]: vertex order, padding, Fourier features and neighbour block for the MeshVAE.
-//! - [`extract`]: spacetime edge threshold and Algorithm 1 (edges -> faces -> repaired mesh).
+//! - [`extract`]: spacetime edge threshold, then edges -> faces by the manifold method
+//!   (default) or the paper's Algorithm 1.
+//! - [`manifold`]: the manifold method: candidate faces accepted best-first by edge margin,
+//!   manifold and consistently wound by construction, small holes filled, tiny pieces dropped.
 //! - [`camera`]: the viewer's orbit camera.
 //! - `viewer` (wasm32, feature `web`): the page's wgpu mesh viewer on Burn's WebGPU device.
 //! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
@@ -47,6 +50,7 @@ pub mod disjoint_sets;
 pub mod extract;
 pub mod generate;
 pub mod io;
+pub mod manifold;
 pub mod mesh;
 pub mod metrics;
 pub mod model;

@@ -4,43 +4,84 @@
 use glam::Vec3;
 
 use crate::Mesh;
-use crate::extract::{ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
+use crate::extract::{ExtractMethod, ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
 use crate::normals::vertex_normals;
 use crate::primitives::icosphere;
 use crate::rng::Rng;
 use crate::topology::{Edge, edges};
 
-/// An icosphere with its ground-truth edges and area-weighted normals: extraction from these
-/// edges must give back the icosphere's faces.
-pub struct GroundTruthEdges {
+/// Vertices with normals and an edge list: the input of [`extract_mesh`].
+pub struct EdgeWorkload {
     pub positions: Vec<Vec3>,
     pub normals: Vec<Vec3>,
     pub edges: Vec<Edge>,
-    pub faces: usize,
+    /// The faces extraction must give back (ground-truth edges), or `None`.
+    pub faces: Option<usize>,
 }
 
-impl GroundTruthEdges {
-    /// Algorithm 1 with default options on these edges (the timed work).
-    pub fn extract(&self) -> (Mesh, ExtractReport) {
+impl EdgeWorkload {
+    /// Extraction by `method` with default options on these edges (the timed work).
+    pub fn extract(&self, method: ExtractMethod) -> (Mesh, ExtractReport) {
+        let opts = ExtractOptions {
+            method,
+            ..Default::default()
+        };
         extract_mesh(
             &self.positions,
             &self.normals,
             &self.edges,
             FaceSupport::Geometric,
-            &ExtractOptions::default(),
+            &opts,
         )
-        .expect("a valid icosphere")
+        .expect("a valid workload")
     }
 }
 
-/// The icosphere with `subdivisions` (162, 642, 2562, 10242 vertices for 2..=5).
-pub fn icosphere_edges(subdivisions: u32) -> GroundTruthEdges {
+/// The icosphere with `subdivisions` (162, 642, 2562, 10242 vertices for 2..=5) and its
+/// ground-truth edges: extraction must give back its faces.
+pub fn icosphere_edges(subdivisions: u32) -> EdgeWorkload {
     let m = icosphere(subdivisions);
-    GroundTruthEdges {
+    EdgeWorkload {
         normals: vertex_normals(&m.positions, &m.faces),
         edges: edges(&m.faces),
-        faces: m.faces.len(),
+        faces: Some(m.faces.len()),
         positions: m.positions,
+    }
+}
+
+/// `n` points spread evenly over the unit sphere (a Fibonacci lattice), each joined to its `k`
+/// nearest neighbours: an over-connected graph whose 3-cliques overlap everywhere, like the
+/// edges of an uncertain decoder (k = 8 gives about three times the faces of a triangulation).
+pub fn over_connected_sphere(n: usize, k: usize) -> EdgeWorkload {
+    let golden = std::f32::consts::PI * (3.0 - 5f32.sqrt());
+    let positions: Vec<Vec3> = (0..n)
+        .map(|i| {
+            let y = 1.0 - 2.0 * (i as f32 + 0.5) / n as f32;
+            let r = (1.0 - y * y).max(0.0).sqrt();
+            let a = golden * i as f32;
+            Vec3::new(r * a.cos(), y, r * a.sin())
+        })
+        .collect();
+    let mut edges = Vec::new();
+    for (i, p) in positions.iter().enumerate() {
+        let mut near: Vec<(f32, u32)> = (positions.iter().enumerate())
+            .filter(|&(j, _)| j != i)
+            .map(|(j, q)| (p.distance_squared(*q), j as u32))
+            .collect();
+        near.sort_by(|a, b| a.0.total_cmp(&b.0));
+        edges.extend(
+            near.iter()
+                .take(k)
+                .map(|&(_, j)| [j.min(i as u32), j.max(i as u32)]),
+        );
+    }
+    edges.sort_unstable();
+    edges.dedup();
+    EdgeWorkload {
+        normals: positions.clone(),
+        positions,
+        edges,
+        faces: None,
     }
 }
 

@@ -1,8 +1,11 @@
-//! Property tests of Algorithm 1 on meshes it must reproduce exactly.
+//! Property tests of extraction: Algorithm 1 on meshes it must reproduce exactly, and the
+//! manifold method's guarantees for arbitrary edges and edge scores.
 
 use glam::Vec3;
 use meshflow::Mesh;
-use meshflow::extract::{ExtractOptions, FaceSupport, extract_mesh, triangles_of_edges};
+use meshflow::extract::{
+    ExtractMethod, ExtractOptions, FaceSupport, extract_mesh, spacetime_edges, triangles_of_edges,
+};
 use meshflow::normals::vertex_normals;
 use meshflow::primitives::{grid, icosphere};
 use meshflow::rng::Rng;
@@ -52,7 +55,7 @@ proptest! {
         // The property holds for meshes whose every 3-clique is a face.
         prop_assume!(sorted_set(&triangles_of_edges(m.positions.len(), &e)) == sorted_set(&m.faces));
         let normals = vertex_normals(&m.positions, &m.faces);
-        let opts = ExtractOptions { fill_holes: false, compact: false, ..Default::default() };
+        let opts = ExtractOptions { fill_holes: false, compact: false, ..ExtractOptions::paper() };
         let (out, report) = extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, &opts).unwrap();
         prop_assert_eq!(sorted_set(&out.faces), sorted_set(&m.faces));
         prop_assert_eq!(report.clique_faces, m.faces.len());
@@ -68,7 +71,7 @@ proptest! {
         }
         // With compaction the mesh keeps every face and loses only isolated vertices.
         let (compact, r) = extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric,
-            &ExtractOptions { fill_holes: false, ..Default::default() }).unwrap();
+            &ExtractOptions { fill_holes: false, ..ExtractOptions::paper() }).unwrap();
         prop_assert_eq!(compact.faces.len(), m.faces.len());
         prop_assert_eq!(r.unreferenced_vertices_removed, TopologyReport::of(&m).isolated_vertices);
         prop_assert!(compact.validate().is_ok());
@@ -81,7 +84,7 @@ proptest! {
         let m = random_mesh(kind, size, 0.0, delete, seed);
         let normals = vertex_normals(&m.positions, &m.faces);
         let e = edges(&m.faces);
-        let base = ExtractOptions { fill_holes: false, compact: false, ..Default::default() };
+        let base = ExtractOptions { fill_holes: false, compact: false, ..ExtractOptions::paper() };
         let (open, _) = extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, &base).unwrap();
         let filled_opts = ExtractOptions { fill_holes: true, max_hole_edges: max_hole, ..base };
         let (filled, r) = extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, &filled_opts).unwrap();
@@ -111,9 +114,71 @@ proptest! {
             drop_non_manifold: true,
             fill_holes: max_hole >= 3,
             max_hole_edges: max_hole,
-            ..Default::default()
+            ..ExtractOptions::paper()
         };
         let (out, _) = extract_mesh(&positions, &normals, &e, FaceSupport::Geometric, &opts).unwrap();
         prop_assert_eq!(TopologyReport::of(&out).non_manifold_edges, 0);
+    }
+
+    #[test]
+    fn manifold_method_is_manifold_and_consistently_wound_for_any_edge_scores(
+        n in 4usize..48, dim_half in 1usize..5, spread in 0.2f32..2.0, max_hole in 0usize..10,
+        min_piece in 0usize..6, seed in any::<u64>()
+    ) {
+        // Random points, normals and edge embeddings: the threshold gives an arbitrary graph
+        // with plenty of overlapping cliques, and the margins arbitrary scores.
+        let mut rng = Rng::new(seed);
+        let positions: Vec<Vec3> = (0..n).map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32())).collect();
+        let normals: Vec<Vec3> = (0..n).map(|_| Vec3::new(rng.next_f32() - 0.5, rng.next_f32() - 0.5, rng.next_f32() - 0.5)).collect();
+        let dim = 2 * dim_half;
+        let embeddings: Vec<f32> = (0..n * dim).map(|_| rng.normal() as f32 * spread).collect();
+        let e = spacetime_edges(&embeddings, dim, 0.6).unwrap();
+        let opts = ExtractOptions {
+            fill_holes: max_hole >= 3,
+            max_hole_edges: max_hole,
+            min_component_faces: min_piece,
+            ..Default::default()
+        };
+        prop_assert_eq!(opts.method, ExtractMethod::Manifold);
+        for support in [FaceSupport::EdgeMargin { embeddings: &embeddings, dim }, FaceSupport::Geometric] {
+            let (out, r) = extract_mesh(&positions, &normals, &e, support, &opts).unwrap();
+            let t = TopologyReport::of(&out);
+            prop_assert_eq!(t.non_manifold_edges, 0);
+            prop_assert_eq!(t.inconsistent_winding_edges, 0);
+            prop_assert_eq!(t.degenerate_faces, 0);
+            prop_assert!(out.validate().is_ok());
+            // Every face is a candidate clique or a hole fan, each vertex triple at most once.
+            let faces = sorted_set(&out.faces);
+            let mut dedup = faces.clone();
+            dedup.dedup();
+            prop_assert_eq!(dedup.len(), faces.len());
+            prop_assert_eq!(r.faces, out.faces.len());
+            prop_assert!(r.faces + r.piece_faces_dropped <= r.clique_faces + r.hole_faces);
+            // Every remaining piece has at least the minimum number of faces.
+            let (labels, count) = meshflow::topology::components(out.positions.len(), &out.faces);
+            let mut size = vec![0usize; count];
+            for f in &out.faces { size[labels[f[0] as usize] as usize] += 1; }
+            prop_assert!(size.iter().all(|&s| s >= min_piece.max(1)));
+        }
+    }
+
+    #[test]
+    fn manifold_method_gives_back_clean_ground_truth_meshes(
+        kind in 0u8..2, size in 1u32..4, jitter in 0.0f32..0.02, seed in any::<u64>()
+    ) {
+        // Whole, consistently wound meshes (no faces deleted) whose every 3-clique is a face:
+        // from their own edges the manifold method returns exactly their faces, wound as they are.
+        let m = random_mesh(kind, size, jitter, 0, seed);
+        let e = edges(&m.faces);
+        prop_assume!(sorted_set(&triangles_of_edges(m.positions.len(), &e)) == sorted_set(&m.faces));
+        let normals = vertex_normals(&m.positions, &m.faces);
+        let opts = ExtractOptions { compact: false, ..Default::default() };
+        let (out, _) = extract_mesh(&m.positions, &normals, &e, FaceSupport::Geometric, &opts).unwrap();
+        let wound = |faces: &[[u32; 3]]| {
+            let mut v: Vec<[u32; 3]> = faces.iter().map(|&f| rotate_min_first(f)).collect();
+            v.sort_unstable();
+            v
+        };
+        prop_assert_eq!(wound(&out.faces), wound(&m.faces));
     }
 }

@@ -47,6 +47,7 @@ fn extraction_cases_match_the_reference() {
                 max_hole_edges: max_cycle,
                 drop_non_manifold: false,
                 compact: false,
+                ..ExtractOptions::paper()
             };
             extract_mesh(&positions, &normals, &edges, FaceSupport::Geometric, &opts).unwrap()
         };
@@ -115,7 +116,7 @@ fn ground_truth_edges_reproduce_the_ground_truth_faces() {
             &ExtractOptions {
                 fill_holes: false,
                 compact: false,
-                ..Default::default()
+                ..ExtractOptions::paper()
             },
         )
         .unwrap();

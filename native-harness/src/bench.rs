@@ -6,8 +6,8 @@ use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result};
 use clap::Subcommand;
-use meshflow::extract::{TAU, spacetime_edges};
-use meshflow::workloads::{icosphere_edges, random_embeddings};
+use meshflow::extract::{ExtractMethod, TAU, spacetime_edges};
+use meshflow::workloads::{icosphere_edges, over_connected_sphere, random_embeddings};
 use serde::Serialize;
 
 #[derive(Subcommand)]
@@ -79,7 +79,15 @@ struct Report {
     cpu: String,
     avx2: bool,
     threads: usize,
+    /// Algorithm 1 (`--extraction paper`) on an icosphere's ground-truth edges: the figure
+    /// compared with the reference.
     extraction_from_edges: Vec<Case>,
+    /// The default manifold method on the same edges.
+    manifold_extraction_from_edges: Vec<Case>,
+    /// Both methods on over-connected sphere graphs (8 nearest neighbours), where 3-cliques
+    /// overlap everywhere as in an uncertain decoder's edges.
+    paper_extraction_over_connected: Vec<Case>,
+    manifold_extraction_over_connected: Vec<Case>,
     spacetime_threshold_dim32: Vec<Case>,
 }
 
@@ -122,30 +130,61 @@ pub fn run(which: BenchCommand) -> Result<()> {
     let budget = Duration::from_secs_f64(seconds);
     let mut report = Report {
         method: "wall-clock median over >= 5 runs and >= `seconds` per case after one warm-up run; \
-                 single thread; extraction = extract_mesh on an icosphere's ground-truth edges \
-                 (faces, winding, hole check, compaction); threshold = spacetime_edges on \
+                 single thread; extraction = extract_mesh (Algorithm 1, and the manifold method) on an \
+                 icosphere's ground-truth edges (faces, winding, hole check, compaction) and on \
+                 over-connected sphere graphs (8 nearest neighbours); threshold = spacetime_edges on \
                  N(0, 0.12^2) embeddings, tau = 0.6",
         cpu: cpu_name(),
         avx2: has_avx2(),
         threads: 1,
         extraction_from_edges: Vec::new(),
+        manifold_extraction_from_edges: Vec::new(),
+        paper_extraction_over_connected: Vec::new(),
+        manifold_extraction_over_connected: Vec::new(),
         spacetime_threshold_dim32: Vec::new(),
     };
     for subdivisions in 2..=5 {
         let w = icosphere_edges(subdivisions);
-        let faces = w.extract().0.faces.len();
-        anyhow::ensure!(faces == w.faces, "extraction lost faces of the icosphere");
-        let t = time(budget, || {
-            std::hint::black_box(w.extract());
-        });
-        eprintln!(
-            "extract {:>6} vertices: {:8.3} ms",
-            w.positions.len(),
-            t.median_ms
-        );
-        report
-            .extraction_from_edges
-            .push(case(w.positions.len(), faces, t, &REFERENCE_EXTRACT_MS));
+        for method in [ExtractMethod::Paper, ExtractMethod::Manifold] {
+            let faces = w.extract(method).0.faces.len();
+            anyhow::ensure!(
+                Some(faces) == w.faces,
+                "{method:?} extraction lost faces of the icosphere"
+            );
+            let t = time(budget, || {
+                std::hint::black_box(w.extract(method));
+            });
+            eprintln!(
+                "extract ({method:?}) {:>6} vertices: {:8.3} ms",
+                w.positions.len(),
+                t.median_ms
+            );
+            let (list, reference) = match method {
+                ExtractMethod::Paper => {
+                    (&mut report.extraction_from_edges, &REFERENCE_EXTRACT_MS[..])
+                }
+                ExtractMethod::Manifold => (&mut report.manifold_extraction_from_edges, &[][..]),
+            };
+            list.push(case(w.positions.len(), faces, t, reference));
+        }
+    }
+    for n in [512, 2048] {
+        let w = over_connected_sphere(n, 8);
+        for method in [ExtractMethod::Paper, ExtractMethod::Manifold] {
+            let faces = w.extract(method).0.faces.len();
+            let t = time(budget, || {
+                std::hint::black_box(w.extract(method));
+            });
+            eprintln!(
+                "extract ({method:?}) over-connected {n:>5} vertices: {:8.3} ms ({faces} faces)",
+                t.median_ms
+            );
+            let list = match method {
+                ExtractMethod::Paper => &mut report.paper_extraction_over_connected,
+                ExtractMethod::Manifold => &mut report.manifold_extraction_over_connected,
+            };
+            list.push(case(n, faces, t, &[]));
+        }
     }
     for n in [512, 1024, 2048, 4096, 8192] {
         let emb = random_embeddings(n, 32, 1);

@@ -1,16 +1,38 @@
 //! Extraction options on the command line, shared by every command that extracts a mesh
 //! (`extract`, `reconstruct`, `generate`, `eval vae`, `eval generate`).
 
-use clap::Args;
-use meshflow::extract::ExtractOptions;
+use clap::{Args, ValueEnum};
+use meshflow::extract::{ExtractMethod, ExtractOptions};
+
+/// `--extraction`: how edges become faces.
+#[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Extraction {
+    /// Faces accepted best-first by the model's edge margins: 0 non-manifold edges, 0
+    /// inconsistently wound edges, small holes filled, tiny pieces dropped.
+    Manifold,
+    /// The paper's Algorithm 1: every 3-clique of the edge graph is a face.
+    Paper,
+}
 
 #[derive(Args, Clone, Debug)]
 pub struct ExtractArgs {
+    /// How edges become faces: `manifold` (default) or the paper's Algorithm 1 (`paper`).
+    #[arg(long, value_enum, default_value = "manifold")]
+    pub extraction: Extraction,
     /// Fill boundary loops of at most this many edges (0 = no hole repair).
     #[arg(long, default_value_t = 4)]
     pub max_hole_edges: usize,
-    /// Drop faces that would make an edge non-manifold, keeping the best-supported ones (not
-    /// in the paper's Algorithm 1; off by default).
+    /// With `--extraction manifold`: drop connected pieces of fewer faces than this (default
+    /// 2: lone triangles; 0 keeps every piece).
+    #[arg(long, default_value_t = 2)]
+    pub min_piece_faces: usize,
+    /// With `--extraction manifold`: also offer faces whose edges' spacetime distance is above
+    /// tau minus this (after every face above tau), to close gaps where the decoder missed an
+    /// edge.
+    #[arg(long, default_value_t = 0.3)]
+    pub candidate_slack: f32,
+    /// With `--extraction paper`: drop faces that would make an edge non-manifold, keeping the
+    /// best-supported ones (not in the paper's Algorithm 1; off by default).
     #[arg(long)]
     pub drop_non_manifold: bool,
 }
@@ -19,9 +41,15 @@ impl ExtractArgs {
     /// The library's options for these flags; anything else stays at its default.
     pub fn options(&self) -> ExtractOptions {
         ExtractOptions {
+            method: match self.extraction {
+                Extraction::Manifold => ExtractMethod::Manifold,
+                Extraction::Paper => ExtractMethod::Paper,
+            },
             // A boundary loop has at least 3 edges, so 1 and 2 fill nothing either.
             fill_holes: self.max_hole_edges >= 3,
             max_hole_edges: self.max_hole_edges,
+            min_component_faces: self.min_piece_faces,
+            candidate_slack: self.candidate_slack,
             drop_non_manifold: self.drop_non_manifold,
             ..Default::default()
         }

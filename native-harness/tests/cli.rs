@@ -79,10 +79,35 @@ fn extract_round_trip_keeps_every_face_of_clean_meshes() {
         let r = json(&meshflow(&[
             "extract",
             fixture(name).to_str().unwrap(),
+            "--extraction",
+            "paper",
             "--json",
         ]));
         assert_eq!(r["lost_faces"], 0, "{name}: {r}");
         assert_eq!(r["flipped_faces"], 0, "{name}: {r}");
+    }
+    // The default manifold method never leaves a non-manifold or inconsistently wound edge.
+    // Where the mesh's own adjacency has 3-cliques that are not faces (the stone lantern's
+    // 4, which Algorithm 1 adds and which give it 12 non-manifold edges) it may take one in
+    // place of a real face; elsewhere it gives every face back, wound as it was.
+    for name in [
+        "meshes/stone_lantern.obj",
+        "meshes/finger_lower_link.stl",
+        "meshes/bread.obj",
+        "meshes/garden_lantern.obj",
+    ] {
+        let r = json(&meshflow(&[
+            "extract",
+            fixture(name).to_str().unwrap(),
+            "--json",
+        ]));
+        let t = &r["topology_after"];
+        assert_eq!(t["non_manifold_edges"], 0, "{name}: {r}");
+        assert_eq!(t["inconsistent_winding_edges"], 0, "{name}: {r}");
+        assert_eq!(r["flipped_faces"], 0, "{name}: {r}");
+        if !name.contains("stone") {
+            assert_eq!(r["lost_faces"], 0, "{name}: {r}");
+        }
     }
     // The open, multi-part deck chair keeps its faces too; its boundary is what it is.
     let dir = temp_dir("extract");
@@ -94,6 +119,8 @@ fn extract_round_trip_keeps_every_face_of_clean_meshes() {
         out.to_str().unwrap(),
         "--max-hole-edges",
         "0",
+        "--extraction",
+        "paper",
         "--json",
     ]));
     assert_eq!(r["lost_faces"], 0, "{r}");
@@ -447,9 +474,19 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     let back = json(&meshflow(&["inspect", glb.to_str().unwrap(), "--json"]));
     assert!(back["faces"].as_u64().unwrap() > 0);
 
-    // The non-manifold filter leaves every edge with at most two faces; without hole repair
-    // (which adds faces) it only ever removes the clique faces.
-    let filtered = reconstruct(&["--drop-non-manifold", "--max-hole-edges", "0"]);
+    // The default (manifold) extraction: no edge with a third face, consistent winding.
+    let topology = &report["comparison"]["pred_topology"];
+    assert_eq!(topology["non_manifold_edges"], 0, "{topology}");
+    assert_eq!(topology["inconsistent_winding_edges"], 0, "{topology}");
+    // Algorithm 1's optional filter also leaves every edge with at most two faces; without
+    // hole repair (which adds faces) it only ever removes the clique faces.
+    let filtered = reconstruct(&[
+        "--extraction",
+        "paper",
+        "--drop-non-manifold",
+        "--max-hole-edges",
+        "0",
+    ]);
     let topology = &filtered["comparison"]["pred_topology"];
     assert_eq!(topology["non_manifold_edges"], 0, "{topology}");
     assert!(

@@ -234,9 +234,15 @@ await check('the npm package imports and generates the way a user would', async 
          const mesh = await model.generate(points, options);
          window.__glbs[backend] = Array.from(mesh.toGlb());
          if (backend === 'cpu') {
-           const filtered = await model.generate(points, { ...options, dropNonManifold: true });
-           window.__filtered = { faces: filtered.indices.length / 3, plain: mesh.indices.length / 3,
-             nonManifold: filtered.report.topology.non_manifold_edges };
+           const paper = await model.generate(points, { ...options, extraction: 'paper' });
+           const filtered = await model.generate(points, { ...options, extraction: 'paper', dropNonManifold: true });
+           let refused = '';
+           try { await model.generate(points, { ...options, dropNonManifold: true }); } catch (e) { refused = e.message; }
+           window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
+             nonManifold: filtered.report.topology.non_manifold_edges, refused,
+             manifold: { faces: mesh.indices.length / 3, nonManifold: mesh.report.topology.non_manifold_edges,
+               inconsistent: mesh.report.topology.inconsistent_winding_edges },
+             paperNonManifold: paper.report.topology.non_manifold_edges };
          }
        }
        document.body.dataset.done = 'ok';
@@ -272,9 +278,13 @@ await check('the npm package imports and generates the way a user would', async 
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
   assert(wasmMeshes.webgpu.indices.length > 0, 'the WebGPU mesh has no faces');
-  // The option reaches extraction: no edge with a third face (and the greedy filter always
-  // keeps the best face, so a mesh with faces keeps some).
-  assert(filtered.nonManifold === 0 && (filtered.faces > 0) === (filtered.plain > 0), `dropNonManifold: ${JSON.stringify(filtered)}`);
+  // The default extraction is manifold and consistently wound; 'paper' reaches Algorithm 1,
+  // and its optional filter leaves no edge with a third face.
+  const f = filtered;
+  assert(f.manifold.faces > 0 && f.manifold.nonManifold === 0 && f.manifold.inconsistent === 0, `default extraction: ${JSON.stringify(f)}`);
+  assert(f.paper > 0, `extraction: 'paper': ${JSON.stringify(f)}`);
+  assert(f.nonManifold === 0 && f.faces > 0, `dropNonManifold: ${JSON.stringify(f)}`);
+  assert(/applies to extraction: 'paper' only/.test(f.refused), `dropNonManifold without 'paper' was not refused: ${f.refused}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

@@ -35,8 +35,14 @@ export interface GenerateOptions {
   steps?: number;
   seed?: number;
   /**
-   * Drop faces that would give an edge a third face, keeping the ones the model is surest of
-   * (not in the paper's Algorithm 1; default false). Fewer overlapping faces, more holes.
+   * How edges become faces. `'manifold'` (default): faces accepted best-first by the model's
+   * edge scores, so no edge has a third face and the winding is consistent; small holes are
+   * filled and tiny pieces dropped. `'paper'`: the paper's Algorithm 1 (every 3-clique).
+   */
+  extraction?: 'manifold' | 'paper';
+  /**
+   * With `extraction: 'paper'` only (a TypeError otherwise): drop faces that would give an
+   * edge a third face, keeping the ones the model is surest of. Default false.
    */
   dropNonManifold?: boolean;
   /** Called after each step has finished on the device. */

@@ -118,11 +118,19 @@ export class Model {
   }
   /**
    * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices`, `steps`
-   * (default 28), `seed`, `dropNonManifold` (keep at most two faces per edge), `onStep(step,
-   * steps)`, `signal` (an AbortSignal: aborting cancels between steps and rejects).
+   * (default 28), `seed`, `extraction` (`'manifold'`, the default: no edge with a third face,
+   * consistent winding; or `'paper'`: the paper's Algorithm 1), `dropNonManifold` (with
+   * `'paper'` only: keep at most two faces per edge), `onStep(step, steps)`, `signal` (an
+   * AbortSignal: aborting cancels between steps and rejects).
    */
-  async generate(points, { vertices, steps, seed, dropNonManifold, onStep, signal } = {}) {
-    const extract = dropNonManifold ? { drop_non_manifold: true } : undefined;
+  async generate(points, { vertices, steps, seed, extraction, dropNonManifold, onStep, signal } = {}) {
+    if (extraction !== undefined && extraction !== 'manifold' && extraction !== 'paper') {
+      throw new TypeError(`extraction must be 'manifold' or 'paper', got ${JSON.stringify(extraction)}`);
+    }
+    if (dropNonManifold && extraction !== 'paper') {
+      throw new TypeError("dropNonManifold applies to extraction: 'paper' only (the default 'manifold' output never has a non-manifold edge)");
+    }
+    const extract = { method: extraction ?? 'manifold', drop_non_manifold: !!dropNonManifold };
     const options = JSON.stringify({ vertices, steps, seed, extract });
     const inner = await this.#inner.generate(points, options, (i, n) => {
       onStep?.(i, n);
