@@ -74,7 +74,7 @@ pub struct ExtractOptions {
     /// Manifold method on edge embeddings only: candidates are the 3-cliques of the pairs with
     /// `d > tau - candidate_slack`. Faces with an edge below `tau` have a negative score and
     /// come after every face Algorithm 1 would keep, so they only close gaps that the surer
-    /// faces leave (where the decoder missed an edge). Negative values count as 0.
+    /// faces leave (where the decoder missed an edge). Must be >= 0.
     pub candidate_slack: f32,
     /// Remove vertices that no face uses and renumber the rest (keeping their order).
     pub compact: bool,
@@ -102,6 +102,24 @@ impl ExtractOptions {
             method: ExtractMethod::Paper,
             ..Self::default()
         }
+    }
+
+    /// Refuses combinations that would otherwise be silently ignored or meaningless.
+    pub fn check(&self) -> Result<(), ExtractError> {
+        if self.drop_non_manifold && self.method == ExtractMethod::Manifold {
+            return Err(ExtractError::BadOptions(
+                "drop_non_manifold applies to the paper's Algorithm 1 only (the manifold method never leaves a non-manifold edge)",
+            ));
+        }
+        if !(self.candidate_slack >= 0.0 && self.candidate_slack.is_finite()) {
+            return Err(ExtractError::BadOptions(
+                "candidate_slack must be a finite number >= 0",
+            ));
+        }
+        if !self.tau.is_finite() {
+            return Err(ExtractError::BadOptions("tau must be finite"));
+        }
+        Ok(())
     }
 
     /// Whether extraction ranks faces by the edge embeddings' margins, so the embeddings (not
@@ -161,6 +179,8 @@ pub enum ExtractError {
     NonFinite { what: &'static str, row: usize },
     #[error("edge bit ({a}, {b}) joins a vertex the mask dropped")]
     MaskedEdge { a: u32, b: u32 },
+    #[error("extraction options: {0}")]
+    BadOptions(&'static str),
 }
 
 /// How the non-manifold filter ranks faces that compete for an edge.
@@ -471,6 +491,7 @@ pub fn extract_mesh(
     support: FaceSupport,
     opts: &ExtractOptions,
 ) -> Result<(Mesh, ExtractReport), ExtractError> {
+    opts.check()?;
     let n = positions.len();
     if normals.len() != n {
         return Err(ExtractError::LengthMismatch {
@@ -743,6 +764,7 @@ pub fn extract_from_decoded(
     decoded: &DecodedVertices,
     opts: &ExtractOptions,
 ) -> Result<(Mesh, ExtractReport), ExtractError> {
+    opts.check()?;
     let n = decoded.mask_logits.len();
     for (what, got, expected) in [
         ("positions", decoded.positions.len(), n),
@@ -788,7 +810,7 @@ pub fn extract_from_decoded(
                 .flat_map(|&i| values[i * dim..(i + 1) * dim].iter().copied())
                 .collect();
             let edge_tau = match opts.method {
-                ExtractMethod::Manifold => opts.tau - opts.candidate_slack.max(0.0),
+                ExtractMethod::Manifold => opts.tau - opts.candidate_slack,
                 ExtractMethod::Paper => opts.tau,
             };
             let edges = spacetime_edges(&embeddings, dim, edge_tau)?;
@@ -1129,6 +1151,26 @@ mod tests {
         };
         assert!(faces(strict).is_empty());
         assert!(faces(ExtractOptions::paper()).is_empty());
+        // Options that would be ignored or meaningless are refused, not silently dropped.
+        for bad in [
+            ExtractOptions {
+                drop_non_manifold: true,
+                ..Default::default()
+            },
+            ExtractOptions {
+                candidate_slack: -0.1,
+                ..Default::default()
+            },
+            ExtractOptions {
+                candidate_slack: f32::NAN,
+                ..Default::default()
+            },
+        ] {
+            assert!(matches!(
+                extract_from_decoded(&decoded, &bad),
+                Err(ExtractError::BadOptions(_))
+            ));
+        }
     }
 
     #[test]

@@ -28,11 +28,12 @@ pub struct ExtractArgs {
     pub min_piece_faces: usize,
     /// With `--extraction manifold`: also offer faces whose edges' spacetime distance is above
     /// tau minus this (after every face above tau), to close gaps where the decoder missed an
-    /// edge.
+    /// edge (>= 0).
     #[arg(long, default_value_t = 0.3)]
     pub candidate_slack: f32,
     /// With `--extraction paper`: drop faces that would make an edge non-manifold, keeping the
-    /// best-supported ones (not in the paper's Algorithm 1; off by default).
+    /// best-supported ones (not in the paper's Algorithm 1; off by default; an error with
+    /// the manifold method).
     #[arg(long)]
     pub drop_non_manifold: bool,
 }
