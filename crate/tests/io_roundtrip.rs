@@ -132,6 +132,26 @@ fn write_path_and_read_path() {
     assert_eq!(read_path(&p, &Limits::default()).unwrap().faces, m.faces);
     std::fs::write(&p, write_obj(&m)).unwrap();
     assert_eq!(read_path(&p, &Limits::default()).unwrap().faces, m.faces);
+    // Writes replace the file whole and leave no temporary file beside it; a write that
+    // cannot happen leaves nothing.
+    let out = dir.join("again.glb");
+    write_path(&m, &out).unwrap();
+    write_path(&icosphere(0), &out).unwrap();
+    assert_eq!(
+        read_path(&out, &Limits::default()).unwrap().faces,
+        icosphere(0).faces
+    );
+    let missing = dir.join("no-such-folder/m.glb");
+    assert!(write_path(&m, &missing).is_err());
+    let mut left: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    left.sort();
+    assert_eq!(
+        left,
+        ["again.glb", "m.GLB", "m.glb", "m.obj", "m.ply", "noext"]
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

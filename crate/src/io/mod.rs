@@ -454,8 +454,26 @@ pub fn write_path(mesh: &Mesh, path: &Path) -> Result<(), WriteError> {
         "obj" => write_obj(mesh).into_bytes(),
         _ => write_ply(mesh),
     };
-    std::fs::write(path, bytes)?;
+    write_atomic(path, &bytes)?;
     Ok(())
+}
+
+/// Writes `bytes` to `path` through a temporary file in the same folder, renamed over `path`
+/// once complete: a reader (or a crash) never sees a partial file, and an existing file is
+/// replaced whole or not at all.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let name = path
+        .file_name()
+        .ok_or_else(|| std::io::Error::other(format!("{} names no file", path.display())))?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    let written = std::fs::write(&tmp, bytes).and_then(|()| std::fs::rename(&tmp, path));
+    if written.is_err() {
+        let _ = std::fs::remove_file(&tmp);
+    }
+    written
 }
 
 // ---------------------------------------------------------------------------------------------
