@@ -77,6 +77,7 @@ function showStats(report) {
     ['sample', fmt(t.sample_s)],
     ['decode', fmt(t.decode_s)],
     ['extract', fmt(t.extract_s)],
+    ['fit', fmt(t.fit_s)],
   ];
   $('stats').replaceChildren(
     ...rows.map(([k, v]) => {
@@ -203,6 +204,8 @@ $('generate').addEventListener('click', () => {
       type: 'generate',
       points: copy,
       vertices: num('vertices'),
+      faces: num('faces'),
+      fit: $('fit').checked,
       steps: num('steps'),
       seed: num('seed'),
       extraction: $('extraction').value,

@@ -27,6 +27,8 @@ self.onmessage = async ({ data }) => {
       abort = new AbortController();
       const mesh = await model.generate(new Float32Array(data.points), {
         vertices: data.vertices,
+        faces: data.faces,
+        fit: data.fit,
         steps: data.steps,
         seed: data.seed,
         extraction: data.extraction,

@@ -113,7 +113,7 @@ fn smallest_eigenvalue_share(points: &[DVec3]) -> f64 {
 }
 
 /// Eigenvalues, ascending, of a symmetric 3x3 matrix (closed form, trigonometric).
-fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
+pub(crate) fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
     let p1 = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
     let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
     if p1 <= 1e-30 {

@@ -76,6 +76,12 @@ pub struct ExtractOptions {
     /// come after every face Algorithm 1 would keep, so they only close gaps that the surer
     /// faces leave (where the decoder missed an edge). Must be >= 0.
     pub candidate_slack: f32,
+    /// Manifold method only: refuse a face lying on an accepted face it shares at most one
+    /// vertex with, within this many of its longest edges of its plane (a second layer;
+    /// [`crate::overlap`]). 0 (the default) turns the test off: on the decoder's own faces it
+    /// refuses true ones too (validation CD x100 5.57 -> 6.53 at 0.5); surface completion
+    /// ([`crate::complete`]) applies its own. Must be >= 0.
+    pub overlap_tolerance: f32,
     /// Remove vertices that no face uses and renumber the rest (keeping their order).
     pub compact: bool,
 }
@@ -90,6 +96,7 @@ impl Default for ExtractOptions {
             drop_non_manifold: false,
             min_component_faces: 2,
             candidate_slack: 0.3,
+            overlap_tolerance: 0.0,
             compact: true,
         }
     }
@@ -104,6 +111,19 @@ impl ExtractOptions {
         }
     }
 
+    /// The manifold method's settings: hole filling and small pieces.
+    pub fn manifold_options(&self) -> ManifoldOptions {
+        ManifoldOptions {
+            max_hole_edges: if self.fill_holes {
+                self.max_hole_edges
+            } else {
+                0
+            },
+            min_component_faces: self.min_component_faces,
+            overlap_tolerance: self.overlap_tolerance,
+        }
+    }
+
     /// Refuses combinations that would otherwise be silently ignored or meaningless.
     pub fn check(&self) -> Result<(), ExtractError> {
         if self.drop_non_manifold && self.method == ExtractMethod::Manifold {
@@ -114,6 +134,11 @@ impl ExtractOptions {
         if !(self.candidate_slack >= 0.0 && self.candidate_slack.is_finite()) {
             return Err(ExtractError::BadOptions(
                 "candidate_slack must be a finite number >= 0",
+            ));
+        }
+        if !(self.overlap_tolerance >= 0.0 && self.overlap_tolerance.is_finite()) {
+            return Err(ExtractError::BadOptions(
+                "overlap_tolerance must be a finite number >= 0",
             ));
         }
         if !self.tau.is_finite() {
@@ -535,15 +560,7 @@ pub fn extract_mesh(
 
     if opts.method == ExtractMethod::Manifold {
         let scores = face_scores(&faces, positions, &normals, support, opts.tau);
-        let manifold_opts = ManifoldOptions {
-            max_hole_edges: if opts.fill_holes {
-                opts.max_hole_edges
-            } else {
-                0
-            },
-            min_component_faces: opts.min_component_faces,
-        };
-        let (faces, r) = manifold_faces(positions, &faces, &scores, &manifold_opts);
+        let (faces, r) = manifold_faces(positions, &faces, &scores, &opts.manifold_options());
         report.non_manifold_faces_dropped = r.rejected_non_manifold;
         report.winding_faces_dropped = r.rejected_winding;
         report.folded_faces_dropped = r.rejected_fold;

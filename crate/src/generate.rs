@@ -7,9 +7,12 @@
 //!    [`crate::condition::inference_positions`].
 //! 2. **Sample**: seeded Gaussian noise integrated by the Euler sampler with the DiT.
 //! 3. **Decode**: latents are de-normalised with the VAE manifest's mean/std and decoded.
-//! 4. **Extract**: Algorithm 1 on the decoded vertices, then back to the input's frame. On a
-//!    wgpu device the spacetime threshold runs there (`threshold_gpu`) and only the edge bits
-//!    are read back; on the CPU backend the embeddings are read back and thresholded on the host.
+//! 4. **Extract**: faces from the decoded vertices and edges ([`crate::extract`]: the manifold
+//!    extraction by default, Algorithm 1 on request). For Algorithm 1 on a wgpu device the
+//!    spacetime threshold runs there (`threshold_gpu`) and only the edge bits are read back;
+//!    otherwise the embeddings are read back and thresholded on the host.
+//! 5. **Fit**: the vertices are moved onto the input points' surface ([`crate::fit`]), then
+//!    the mesh goes back to the input's frame.
 
 use burn::tensor::{Device, Int, Tensor, TensorData};
 use glam::Vec3;
@@ -18,10 +21,13 @@ use web_time::Instant;
 
 use crate::Mesh;
 use crate::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
+use crate::complete::{CompleteOptions, CompleteReport, complete_surface};
 use crate::condition::{inference_positions, vertex_condition};
 use crate::extract::{
-    DecodedEdges, DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded,
+    DecodedEdges, DecodedVertices, ExtractMethod, ExtractOptions, ExtractReport,
+    extract_from_decoded,
 };
+use crate::fit::{FitOptions, FitReport, fit_to_points};
 use crate::model::dit::{Dit, DitConfig, Rope};
 use crate::model::sampler::{SampleError, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
@@ -34,6 +40,18 @@ use crate::topology::TopologyReport;
 /// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
 pub const CONDITION_POINTS: usize = 4096;
 
+/// Fewest input points accepted: fewer say too little about a surface to place vertices on
+/// (and the fitting takes 8 nearest points around each vertex).
+pub const MIN_POINTS: usize = 16;
+
+/// Faces the full pipeline makes per budgeted vertex, asked for the ground truth's face count
+/// (median over the validation split, 1.04; `meshflow eval generate --split val --budget
+/// ground-truth-faces`): how a face count asked for becomes a vertex budget.
+pub const FACES_PER_VERTEX: f32 = 1.05;
+
+/// Fewest vertices a face count may ask for.
+pub const MIN_BUDGET: usize = 8;
+
 /// Why a generation failed.
 #[derive(Debug, thiserror::Error)]
 pub enum GenerateError {
@@ -43,6 +61,16 @@ pub enum GenerateError {
     NonFinite(usize),
     #[error("all input points coincide; there is no shape to mesh")]
     Degenerate,
+    #[error("the input has {got} points; at least {min} are needed to place a surface")]
+    TooFewPoints { got: usize, min: usize },
+    #[error("{asked} faces is outside what the model can make: {min}..={max}")]
+    Faces {
+        asked: usize,
+        min: usize,
+        max: usize,
+    },
+    #[error("ask for vertices or for faces, not both")]
+    VerticesAndFaces,
     #[error("vertex budget {asked} is outside 1..={max} (the VAE's vertex count)")]
     Budget { asked: usize, max: usize },
     #[error(transparent)]
@@ -64,23 +92,35 @@ pub enum GenerateError {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(default, deny_unknown_fields)]
 pub struct GenerateOptions {
-    /// Vertices to ask for; `None` uses the default rule on the input's shape.
+    /// Vertices to ask for; `None` uses `faces`, or else the default rule on the input's
+    /// shape.
     pub vertices: Option<usize>,
+    /// Faces to ask for, turned into a vertex budget by [`FACES_PER_VERTEX`]; the result
+    /// comes near it, not exactly on it (the model decides the connectivity).
+    pub faces: Option<usize>,
     /// Euler steps (the paper: 28).
     pub steps: usize,
     pub seed: u64,
     pub schedule: ScheduleMode,
     pub extract: ExtractOptions,
+    /// Fitting the extracted vertices to the input points (`iterations: 0` turns it off).
+    pub fit: FitOptions,
+    /// Completing the manifold extraction's faces with triangles on the input surface
+    /// (ignored with Algorithm 1).
+    pub complete: CompleteOptions,
 }
 
 impl Default for GenerateOptions {
     fn default() -> Self {
         Self {
             vertices: None,
+            faces: None,
             steps: 28,
             seed: 0,
             schedule: ScheduleMode::ToZero,
             extract: ExtractOptions::default(),
+            fit: FitOptions::default(),
+            complete: CompleteOptions::default(),
         }
     }
 }
@@ -93,6 +133,8 @@ pub struct StageTimes {
     pub sample_s: f64,
     pub decode_s: f64,
     pub extract_s: f64,
+    /// Fitting to the input points and completing the surface.
+    pub fit_s: f64,
 }
 
 /// One generated mesh, in the input's frame.
@@ -102,6 +144,8 @@ pub struct Generated {
     pub vertex_budget: usize,
     pub features: ShapeFeatures,
     pub extract: ExtractReport,
+    pub fit: FitReport,
+    pub complete: CompleteReport,
     pub topology: TopologyReport,
     /// Stage times of the whole batch this mesh was generated in.
     pub times: StageTimes,
@@ -137,6 +181,12 @@ pub fn to_model_frame(points: &[Vec3]) -> Result<(Vec<Vec3>, Normalization), Gen
     let aabb = crate::Aabb::of(points).ok_or(GenerateError::NoPoints)?;
     if aabb.max_extent() <= f32::EPSILON * aabb.center().abs().max_element().max(1.0) {
         return Err(GenerateError::Degenerate);
+    }
+    if points.len() < MIN_POINTS {
+        return Err(GenerateError::TooFewPoints {
+            got: points.len(),
+            min: MIN_POINTS,
+        });
     }
     let norm = Normalization::to_model_frame(aabb);
     Ok((
@@ -295,7 +345,7 @@ impl Generator<'_> {
             },
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
-        self.extract(prepared, &host, &opts.extract)
+        self.extract(prepared, &host, opts)
     }
 
     /// Stage 1: checks the models fit together, conditions every input (model frame, budget,
@@ -401,14 +451,16 @@ impl Generator<'_> {
         }
     }
 
-    /// Stage 4: Algorithm 1 on each decoded row, mapped back to its input's frame.
+    /// Stages 4 and 5: faces from each decoded row (`opts.extract`), its vertices fitted to
+    /// its input points (`opts.fit`), mapped back to its input's frame.
     pub fn extract(
         &self,
         prepared: Prepared,
         host: &DecodedHost,
-        extract: &ExtractOptions,
+        opts: &GenerateOptions,
     ) -> Result<Vec<Generated>, GenerateError> {
         let started = Instant::now();
+        let mut fit_s = 0.0;
         let (n, e) = (prepared.slots, self.vae_config.edge_dim);
         let words = n.div_ceil(32);
         let mut meshes = Vec::with_capacity(prepared.conditioned.len());
@@ -432,20 +484,52 @@ impl Generator<'_> {
                 normals: &nrm,
                 edges,
             };
-            let (mesh, report) = extract_from_decoded(&decoded, extract)?;
-            meshes.push((c.to_input.apply_mesh(&mesh), report));
+            // Completion may use vertices the model gave no face, so they stay until then;
+            // and the model's faces are chosen by their margins under completion's overlap
+            // test (completion keeps them in that order, first).
+            let completing =
+                opts.complete.enabled && opts.extract.method == ExtractMethod::Manifold;
+            let extract = if completing {
+                ExtractOptions {
+                    compact: false,
+                    overlap_tolerance: opts.complete.overlap_tolerance,
+                    ..opts.extract.clone()
+                }
+            } else {
+                opts.extract.clone()
+            };
+            let (mut mesh, report) = extract_from_decoded(&decoded, &extract)?;
+            let fitting = Instant::now();
+            let fit = fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_points, &opts.fit);
+            let mut complete = CompleteReport::default();
+            if completing {
+                (mesh, complete) = complete_surface(
+                    &mesh,
+                    &c.model_points,
+                    &opts.complete,
+                    &opts.extract.manifold_options(),
+                );
+                if opts.extract.compact {
+                    mesh.remove_unreferenced_vertices();
+                }
+            }
+            fit_s += fitting.elapsed().as_secs_f64();
+            meshes.push((c.to_input.apply_mesh(&mesh), report, fit, complete));
         }
         let mut times = prepared.times;
-        times.extract_s = started.elapsed().as_secs_f64();
+        times.fit_s = fit_s;
+        times.extract_s = started.elapsed().as_secs_f64() - fit_s;
         Ok(meshes
             .into_iter()
             .zip(prepared.conditioned)
-            .map(|((mesh, extract), c)| Generated {
+            .map(|((mesh, extract, fit, complete), c)| Generated {
                 topology: TopologyReport::of(&mesh),
                 mesh,
                 vertex_budget: c.budget,
                 features: c.features,
                 extract,
+                fit,
+                complete,
                 times: times.clone(),
             })
             .collect())
@@ -461,10 +545,14 @@ impl Generator<'_> {
         let (model_points, to_input) = to_model_frame(points)?;
         let features = shape_features(&model_points, seed);
         let max = vae.num_vertices;
-        let budget = match opts.vertices {
-            Some(v) if v == 0 || v > max => return Err(GenerateError::Budget { asked: v, max }),
-            Some(v) => v,
-            None => self.budget_rule.budget(&features, max),
+        let budget = match (opts.vertices, opts.faces) {
+            (Some(_), Some(_)) => return Err(GenerateError::VerticesAndFaces),
+            (Some(v), None) if v == 0 || v > max => {
+                return Err(GenerateError::Budget { asked: v, max });
+            }
+            (Some(v), None) => v,
+            (None, Some(f)) => budget_for_faces(f, max)?,
+            (None, None) => self.budget_rule.budget(&features, max),
         };
         Ok(Conditioned {
             to_input,
@@ -518,6 +606,26 @@ impl<'a> Generator<'a> {
             device,
         )
     }
+}
+
+/// The vertex budget for `faces` faces ([`FACES_PER_VERTEX`]), or the range a model of `max`
+/// vertices can make when it is outside.
+pub fn budget_for_faces(faces: usize, max: usize) -> Result<usize, GenerateError> {
+    let range = faces_range(max);
+    if !range.contains(&faces) {
+        return Err(GenerateError::Faces {
+            asked: faces,
+            min: *range.start(),
+            max: *range.end(),
+        });
+    }
+    Ok(((faces as f32 / FACES_PER_VERTEX).round() as usize).clamp(MIN_BUDGET, max))
+}
+
+/// The face counts a model of `max` vertices can be asked for.
+pub fn faces_range(max: usize) -> std::ops::RangeInclusive<usize> {
+    let faces = |v: usize| (v as f32 * FACES_PER_VERTEX).round() as usize;
+    faces(MIN_BUDGET)..=faces(max)
 }
 
 fn read(t: Tensor<3>) -> Result<TensorData, GenerateError> {

@@ -16,6 +16,8 @@
 //!      at less than the angle [`FOLD_COS`] allows. (A quad with both diagonals has four
 //!      3-cliques; the third one accepted would lie folded over the first two, which is what
 //!      the overlapping sheets of Algorithm 1 are made of.)
+//!    - with `overlap_tolerance` above 0, it does not lie on an accepted face that it shares
+//!      at most one vertex with ([`crate::overlap`]: a second layer);
 //!    - and it can be wound consistently with its edge-neighbours. Accepted faces form pieces,
 //!      each consistently wound up to one flip of the whole piece; a candidate joining pieces
 //!      whose windings disagree flips one of them, and is refused only when two neighbours in
@@ -30,8 +32,9 @@
 //!    is a 3-loop), the one whose normal best agrees with its neighbours' is added and `h[i]`
 //!    leaves the loop, until it is closed; when no ear passes, the loop stays open and
 //!    nothing of it is added.
-//! 4. **Drop small pieces.** Connected components (faces sharing a vertex) of fewer than
-//!    `min_component_faces` faces are removed.
+//! 4. **Drop small pieces.** Pieces of faces joined through shared edges with fewer than
+//!    `min_component_faces` faces are removed (with 2, the triangles that touch the rest at
+//!    a vertex at most: each would be a hole of its own).
 //!
 //! Invariant, for any positions, normals, candidates and scores (`crate/tests/extract_props.rs`):
 //! no edge has more than two faces, and the two faces on an edge walk it in opposite
@@ -43,6 +46,8 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
+use crate::disjoint_sets::DisjointSets;
+use crate::overlap::FaceLayers;
 use crate::topology::{self, Edge, rotate_min_first, sorted_face};
 
 /// Smallest cosine allowed between the normals of two faces that share an edge (consistently
@@ -59,6 +64,9 @@ pub struct ManifoldOptions {
     pub max_hole_edges: usize,
     /// Remove connected pieces with fewer faces than this (0 or 1: keep every piece).
     pub min_component_faces: usize,
+    /// Refuse a face lying on an accepted one that shares at most one vertex with it, within
+    /// this many of its longest edges of its plane ([`crate::overlap`]; 0: no such test).
+    pub overlap_tolerance: f32,
 }
 
 /// What [`manifold_faces`] did with its candidates.
@@ -72,6 +80,8 @@ pub struct ManifoldReport {
     pub rejected_winding: usize,
     /// Candidates rejected because they folded back onto a neighbour.
     pub rejected_fold: usize,
+    /// Candidates rejected because they lay on an accepted face not next to them.
+    pub rejected_overlap: usize,
     /// Candidates rejected for having no area.
     pub rejected_degenerate: usize,
     /// Boundary loops filled, the faces that added, and the loops left open.
@@ -111,15 +121,25 @@ fn walks_up(face: [u32; 3], a: u32, b: u32) -> bool {
 /// and a union-find over faces whose pieces are consistently wound up to one flip each:
 /// `flip[f]` says whether `f` must be flipped relative to `parent[f]`. Joining two pieces
 /// whose windings disagree flips one of them as a whole instead of refusing the face.
-#[derive(Default)]
 struct Selection {
     faces: Vec<[u32; 3]>,
     parent: Vec<u32>,
     flip: Vec<bool>,
     on_edge: HashMap<Edge, [Option<u32>; 2]>,
+    layers: FaceLayers,
 }
 
 impl Selection {
+    fn new(overlap_tolerance: f32) -> Self {
+        Self {
+            faces: Vec::new(),
+            parent: Vec::new(),
+            flip: Vec::new(),
+            on_edge: HashMap::new(),
+            layers: FaceLayers::new(overlap_tolerance),
+        }
+    }
+
     /// The root of `f`'s piece and whether `f` is flipped relative to it (path-compressing).
     fn find(&mut self, f: u32) -> (u32, bool) {
         let mut path = Vec::new();
@@ -161,6 +181,9 @@ impl Selection {
                 return Err(Refusal::Fold);
             }
         }
+        if self.layers.overlaps(positions, face) {
+            return Err(Refusal::Overlap);
+        }
         // For each neighbour's piece: must `face` be flipped relative to that piece's root?
         let mut needs: Vec<(u32, bool)> = Vec::new();
         for &(k, g) in &neighbours {
@@ -176,6 +199,7 @@ impl Selection {
             }
         }
         let id = self.faces.len() as u32;
+        self.layers.insert(positions, face);
         self.faces.push(face);
         self.parent.push(id);
         self.flip.push(false);
@@ -220,6 +244,7 @@ enum Refusal {
     NonManifold,
     Winding,
     Fold,
+    Overlap,
 }
 
 /// The accepted faces, and for every edge the (at most two) faces on it with the direction
@@ -230,16 +255,18 @@ struct Surface<'a> {
     face_normals: Vec<Vec3>,
     on_edge: HashMap<Edge, [Option<(u32, bool)>; 2]>,
     vertex_sets: HashSet<[u32; 3]>,
+    layers: FaceLayers,
 }
 
 impl<'a> Surface<'a> {
-    fn new(positions: &'a [Vec3]) -> Self {
+    fn new(positions: &'a [Vec3], overlap_tolerance: f32) -> Self {
         Self {
             positions,
             faces: Vec::new(),
             face_normals: Vec::new(),
             on_edge: HashMap::new(),
             vertex_sets: HashSet::new(),
+            layers: FaceLayers::new(overlap_tolerance),
         }
     }
 
@@ -268,6 +295,9 @@ impl<'a> Surface<'a> {
                 _ => {}
             }
         }
+        if self.layers.overlaps(self.positions, face) {
+            return Err(Refusal::Overlap);
+        }
         Ok(())
     }
 
@@ -281,6 +311,7 @@ impl<'a> Surface<'a> {
         }
         self.face_normals.push(self.unit_normal(face));
         self.vertex_sets.insert(sorted_face(face));
+        self.layers.insert(self.positions, face);
         self.faces.push(face);
     }
 
@@ -290,6 +321,7 @@ impl<'a> Surface<'a> {
         let id = self.faces.len() as u32;
         self.face_normals.pop();
         self.vertex_sets.remove(&sorted_face(face));
+        self.layers.remove(self.positions, face);
         for e in topology::face_edges(face) {
             let slots = self.on_edge.get_mut(&e).expect("edge of a face");
             for s in slots.iter_mut() {
@@ -358,6 +390,26 @@ impl<'a> Surface<'a> {
             .fold(1.0, f32::min)
     }
 
+    /// Step 3: fills every hole loop of at most `max_hole_edges` edges that can be filled.
+    fn fill_holes(&mut self, max_hole_edges: usize) -> HoleFilling {
+        let mut done = HoleFilling::default();
+        for hole in self.hole_loops() {
+            let filled = if max_hole_edges >= 3 && hole.len() <= max_hole_edges {
+                self.fill(&hole)
+            } else {
+                None
+            };
+            match filled {
+                Some(faces) => {
+                    done.filled += 1;
+                    done.faces += faces;
+                }
+                None => done.left += 1,
+            }
+        }
+        done
+    }
+
     /// Step 3 for one hole (its vertices in hole order): ears `(h[i-1], h[i], h[i+1])` are
     /// added smoothest first until the hole is closed; if at some point no ear passes the
     /// tests of step 2, nothing is added.
@@ -397,6 +449,14 @@ impl<'a> Surface<'a> {
     }
 }
 
+/// What hole filling did: loops filled, the faces that took, and loops left open.
+#[derive(Clone, Copy, Debug, Default)]
+struct HoleFilling {
+    filled: usize,
+    faces: usize,
+    left: usize,
+}
+
 /// Steps 1-4 of the module doc: a manifold, consistently wound subset of `candidates` (plus
 /// the faces that close holes), best-scored first. `candidates` are distinct vertex triples; `preferred[k]` is
 /// candidate k wound by Algorithm 1's rule, used when nothing else decides its winding;
@@ -421,7 +481,7 @@ pub fn manifold_faces(
     };
     order.sort_by(|&x, &y| key(y).total_cmp(&key(x)).then(x.cmp(&y)));
 
-    let mut selection = Selection::default();
+    let mut selection = Selection::new(opts.overlap_tolerance);
     for k in order {
         let face = preferred[k];
         if unit_normal(positions, face) == Vec3::ZERO {
@@ -433,45 +493,53 @@ pub fn manifold_faces(
             Err(Refusal::NonManifold) => report.rejected_non_manifold += 1,
             Err(Refusal::Winding) => report.rejected_winding += 1,
             Err(Refusal::Fold) => report.rejected_fold += 1,
+            Err(Refusal::Overlap) => report.rejected_overlap += 1,
         }
     }
-    let mut surface = Surface::new(positions);
+    // The accepted faces were checked already; the surface checks only the ears.
+    let mut surface = Surface::new(positions, opts.overlap_tolerance);
     for face in selection.oriented_faces() {
         surface.add(face);
     }
 
-    for hole in surface.hole_loops() {
-        let filled = if opts.max_hole_edges >= 3 && hole.len() <= opts.max_hole_edges {
-            surface.fill(&hole)
-        } else {
-            None
-        };
-        match filled {
-            Some(faces) => {
-                report.holes_filled += 1;
-                report.hole_faces += faces;
-            }
-            None => report.holes_left += 1,
-        }
-    }
+    let holes = surface.fill_holes(opts.max_hole_edges);
+    (report.holes_filled, report.hole_faces, report.holes_left) =
+        (holes.filled, holes.faces, holes.left);
 
     let mut faces: Vec<[u32; 3]> = surface.faces.iter().map(|&f| rotate_min_first(f)).collect();
     faces.sort_unstable();
     if opts.min_component_faces > 1 {
-        let (labels, count) = topology::components(positions.len(), &faces);
+        let (labels, count) = edge_pieces(&faces);
         let mut size = vec![0usize; count];
-        for f in &faces {
-            size[labels[f[0] as usize] as usize] += 1;
+        for &l in &labels {
+            size[l as usize] += 1;
         }
         report.pieces_dropped = size
             .iter()
             .filter(|&&s| s < opts.min_component_faces)
             .count();
         let before = faces.len();
-        faces.retain(|f| size[labels[f[0] as usize] as usize] >= opts.min_component_faces);
+        let mut label = labels.into_iter();
+        faces.retain(|_| {
+            size[label.next().expect("a label per face") as usize] >= opts.min_component_faces
+        });
         report.piece_faces_dropped = before - faces.len();
     }
     (faces, report)
+}
+
+/// Pieces of faces joined through shared edges (faces that only touch at a vertex are in
+/// different pieces): a label per face, numbered by first face, and the number of pieces.
+fn edge_pieces(faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
+    let mut sets = DisjointSets::new(faces.len());
+    let mut first_on: HashMap<Edge, u32> = HashMap::new();
+    for (f, &face) in faces.iter().enumerate() {
+        for e in topology::face_edges(face) {
+            let g = *first_on.entry(e).or_insert(f as u32);
+            sets.union(g, f as u32);
+        }
+    }
+    sets.labels(|_| true)
 }
 
 #[cfg(test)]
@@ -491,6 +559,7 @@ mod tests {
     const OPTS: ManifoldOptions = ManifoldOptions {
         max_hole_edges: 4,
         min_component_faces: 0,
+        overlap_tolerance: 0.2,
     };
 
     #[test]

@@ -207,7 +207,7 @@ impl MeshFlow {
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         let mut out = generator
-            .extract(prepared, &host, &opts.extract)
+            .extract(prepared, &host, &opts)
             .map_err(js_error)?;
         Ok(GeneratedMesh {
             generated: out.remove(0),

@@ -1,5 +1,5 @@
-//! Property tests of extraction: Algorithm 1 on meshes it must reproduce exactly, and the
-//! manifold method's guarantees for arbitrary edges and edge scores.
+//! Property tests of extraction: Algorithm 1 on meshes it must reproduce exactly, the
+//! manifold method's guarantees for arbitrary edges and edge scores, and surface completion's.
 
 use glam::Vec3;
 use meshflow::Mesh;
@@ -180,5 +180,39 @@ proptest! {
             v
         };
         prop_assert_eq!(wound(&out.faces), wound(&m.faces));
+    }
+
+    #[test]
+    fn completion_keeps_the_surface_manifold_and_consistently_wound(
+        kind in 0u8..2, size in 1u32..4, jitter in 0.0f32..0.1, delete in 0u64..90,
+        gap in 1.0f32..10.0, tolerance in 0.0f32..1.0, seed in any::<u64>()
+    ) {
+        // A lace: a perturbed mesh with most faces deleted, completed against points sampled
+        // from the whole mesh.
+        let whole = random_mesh(kind, size, jitter, 0, seed);
+        let points = meshflow::sample::sample_surface(&whole, 2000, seed).unwrap().points;
+        let mut lace = random_mesh(kind, size, jitter, delete, seed);
+        lace.normals = vertex_normals(&lace.positions, &whole.faces);
+        let opts = meshflow::complete::CompleteOptions {
+            max_gap: gap,
+            overlap_tolerance: tolerance,
+            ..Default::default()
+        };
+        let manifold = meshflow::manifold::ManifoldOptions {
+            max_hole_edges: 4,
+            min_component_faces: 2,
+            overlap_tolerance: 0.0,
+        };
+        let (out, r) = meshflow::complete::complete_surface(&lace, &points, &opts, &manifold);
+        let t = TopologyReport::of(&out);
+        prop_assert!(out.validate().is_ok());
+        prop_assert_eq!(t.non_manifold_edges, 0);
+        prop_assert_eq!(t.inconsistent_winding_edges, 0);
+        prop_assert_eq!(t.degenerate_faces, 0);
+        prop_assert!(r.kept_model_surface || out.faces.len() * 2 >= lace.faces.len());
+        let faces = sorted_set(&out.faces);
+        let mut dedup = faces.clone();
+        dedup.dedup();
+        prop_assert_eq!(dedup.len(), faces.len());
     }
 }

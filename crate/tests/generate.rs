@@ -93,7 +93,13 @@ fn generated_meshes_are_valid_and_reported() {
     assert!(!g.mesh.faces.is_empty(), "{:?}", g.extract);
     assert_eq!(g.vertex_budget, 40);
     assert_eq!(g.topology.faces, g.mesh.faces.len());
-    assert_eq!(g.extract.faces, g.mesh.faces.len());
+    assert_eq!(
+        (
+            g.topology.non_manifold_edges,
+            g.topology.inconsistent_winding_edges
+        ),
+        (0, 0)
+    );
     assert!(g.mesh.positions.len() <= m.vae_cfg.num_vertices);
     assert!(g.times.sample_s > 0.0 && g.times.decode_s > 0.0);
 }
@@ -206,6 +212,13 @@ fn bad_inputs_are_typed_errors() {
         run(vec![Vec3::ONE; 10], options(2)),
         GenerateError::Degenerate
     ));
+    let few: Vec<Vec3> = (0..15)
+        .map(|i| Vec3::new(i as f32, (i * i) as f32, 0.0))
+        .collect();
+    assert!(matches!(
+        run(few, options(2)),
+        GenerateError::TooFewPoints { got: 15, min: 16 }
+    ));
     let points = sphere_points(1.0, Vec3::ZERO);
     for asked in [0, 513] {
         let opts = GenerateOptions {
@@ -215,6 +228,33 @@ fn bad_inputs_are_typed_errors() {
         let err = run(points.clone(), opts);
         assert!(
             matches!(err, GenerateError::Budget { max: 512, .. }),
+            "{err}"
+        );
+    }
+    let both = GenerateOptions {
+        faces: Some(100),
+        ..options(2)
+    };
+    assert!(matches!(
+        run(points.clone(), both),
+        GenerateError::VerticesAndFaces
+    ));
+    for asked in [0, 7, 539, 100_000] {
+        let opts = GenerateOptions {
+            vertices: None,
+            faces: Some(asked),
+            ..options(2)
+        };
+        let err = run(points.clone(), opts);
+        assert!(
+            matches!(
+                err,
+                GenerateError::Faces {
+                    min: 8,
+                    max: 538,
+                    ..
+                }
+            ),
             "{err}"
         );
     }
@@ -260,4 +300,72 @@ fn meshes_are_surface_sampled_and_point_clouds_kept() {
         input_points(&big, 3).unwrap().len(),
         meshflow::generate::CONDITION_POINTS
     );
+}
+
+/// Mean distance from each vertex to its nearest input point.
+fn mean_distance(vertices: &[Vec3], points: &[Vec3]) -> f32 {
+    let sum: f32 = vertices
+        .iter()
+        .map(|v| {
+            points
+                .iter()
+                .map(|p| p.distance(*v))
+                .fold(f32::INFINITY, f32::min)
+        })
+        .sum();
+    sum / vertices.len() as f32
+}
+
+#[test]
+fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
+    let m = models();
+    let generator = m.generator();
+    let points = sphere_points(2.0, Vec3::new(1.0, 0.0, -3.0));
+    let raw = GenerateOptions {
+        fit: meshflow::fit::FitOptions::OFF,
+        complete: meshflow::complete::CompleteOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        ..options(3)
+    };
+    let before = generator
+        .generate(std::slice::from_ref(&points), &raw, &mut |_, _| true)
+        .unwrap();
+    let after = generator
+        .generate(std::slice::from_ref(&points), &options(3), &mut |_, _| true)
+        .unwrap();
+    let (before, after) = (&before[0], &after[0]);
+    assert_eq!(before.fit.iterations, 0);
+    assert_eq!(after.fit.iterations, 3);
+    let (d0, d1) = (
+        mean_distance(&before.mesh.positions, &points),
+        mean_distance(&after.mesh.positions, &points),
+    );
+    // The untrained DiT's vertices are anywhere; fitted, they sit on the sphere's samples.
+    assert!(d1 < 0.5 * d0, "mean vertex distance {d0} -> {d1}");
+    for g in [before, after] {
+        g.mesh.validate().unwrap();
+        assert_eq!(g.topology.non_manifold_edges, 0);
+        assert_eq!(g.topology.inconsistent_winding_edges, 0);
+    }
+}
+
+#[test]
+fn a_face_count_sets_the_vertex_budget() {
+    let m = models();
+    let opts = GenerateOptions {
+        vertices: None,
+        faces: Some(90),
+        ..options(2)
+    };
+    let out = m
+        .generator()
+        .generate(&[sphere_points(1.0, Vec3::ZERO)], &opts, &mut |_, _| true)
+        .unwrap();
+    assert_eq!(
+        out[0].vertex_budget,
+        meshflow::generate::budget_for_faces(90, 512).unwrap()
+    );
+    assert_eq!(out[0].vertex_budget, 86);
 }

@@ -31,6 +31,11 @@ pub struct ExtractArgs {
     /// edge (>= 0).
     #[arg(long, default_value_t = 0.3)]
     pub candidate_slack: f32,
+    /// With `--extraction manifold`: refuse a face lying on an accepted face that it shares
+    /// at most one vertex with, within this many of its longest edges of its plane (a second
+    /// layer of faces; 0 = no such test).
+    #[arg(long, default_value_t = ExtractOptions::default().overlap_tolerance)]
+    pub overlap_tolerance: f32,
     /// With `--extraction paper`: drop faces that would make an edge non-manifold, keeping the
     /// best-supported ones (not in the paper's Algorithm 1; off by default; an error with
     /// the manifold method).
@@ -51,6 +56,7 @@ impl ExtractArgs {
             max_hole_edges: self.max_hole_edges,
             min_component_faces: self.min_piece_faces,
             candidate_slack: self.candidate_slack,
+            overlap_tolerance: self.overlap_tolerance,
             drop_non_manifold: self.drop_non_manifold,
             ..Default::default()
         }

@@ -11,9 +11,12 @@ use clap::{Args, ValueEnum};
 use meshflow::Mesh;
 use meshflow::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use meshflow::burn::tensor::Device;
+use meshflow::complete::CompleteOptions;
+use meshflow::degrade::{Degradation, degrade};
 use meshflow::device::{BackendKind, device};
+use meshflow::fit::FitOptions;
 use meshflow::generate::{
-    CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, input_points,
+    CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, faces_range, input_points,
 };
 use meshflow::metrics::{CompareOptions, Comparison, compare_meshes};
 use meshflow::model::MeshVae;
@@ -62,18 +65,74 @@ pub struct SamplingArgs {
     schedule: Schedule,
     #[command(flatten)]
     extract: ExtractArgs,
+    /// Rounds of moving the extracted vertices onto the input points' surface (0 = as
+    /// decoded; see `--no-fit`).
+    #[arg(long, default_value_t = FitOptions::default().iterations)]
+    fit_iterations: usize,
+    /// Input points that define each vertex's local surface plane when fitting.
+    #[arg(long, default_value_t = FitOptions::default().neighbours)]
+    fit_neighbours: usize,
+    /// Keep the vertices where the model decoded them (same as `--fit-iterations 0`).
+    #[arg(long)]
+    no_fit: bool,
+    /// Keep only the faces the model made: do not complete the surface between its vertices
+    /// with triangles on the input points (manifold extraction only).
+    #[arg(long)]
+    no_complete: bool,
+    /// Completion: the longest new edge, in median edges of the model's faces.
+    #[arg(long, default_value_t = CompleteOptions::default().max_edge_ratio)]
+    complete_max_edge: f32,
+    /// Completion: how far a new face may be from the input points, in point spacings.
+    #[arg(long, default_value_t = CompleteOptions::default().max_gap)]
+    complete_max_gap: f32,
+    /// Completion: weld vertices closer than this many median edges first.
+    #[arg(long, default_value_t = CompleteOptions::default().weld_ratio)]
+    complete_weld: f32,
+    /// Completion: refuse a face lying on another one it shares no edge with, within this
+    /// many of its longest edges of its plane (a second layer; 0 = no test).
+    #[arg(long, default_value_t = CompleteOptions::default().overlap_tolerance)]
+    complete_overlap: f32,
+    /// Completion: close hole loops of at most this many edges afterwards.
+    #[arg(long, default_value_t = CompleteOptions::default().max_hole_edges)]
+    complete_hole_edges: usize,
+    /// Completion: keep the model's faces even where they leave the input surface.
+    #[arg(long)]
+    keep_off_surface: bool,
+    /// Completion: nearest vertices each vertex may make a new face with.
+    #[arg(long, default_value_t = CompleteOptions::default().neighbours)]
+    complete_neighbours: usize,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
 }
 
 impl SamplingArgs {
-    fn options(&self, vertices: Option<usize>) -> GenerateOptions {
+    fn options(&self, vertices: Option<usize>, faces: Option<usize>) -> GenerateOptions {
         GenerateOptions {
             vertices,
+            faces,
             steps: self.steps,
             seed: self.seed,
             schedule: self.schedule.into(),
             extract: self.extract.options(),
+            fit: if self.no_fit {
+                FitOptions::OFF
+            } else {
+                FitOptions {
+                    iterations: self.fit_iterations,
+                    neighbours: self.fit_neighbours,
+                }
+            },
+            complete: CompleteOptions {
+                enabled: !self.no_complete,
+                neighbours: self.complete_neighbours,
+                max_edge_ratio: self.complete_max_edge,
+                max_gap: self.complete_max_gap,
+                drop_off_surface: !self.keep_off_surface,
+                max_hole_edges: self.complete_hole_edges,
+                weld_ratio: self.complete_weld,
+                overlap_tolerance: self.complete_overlap,
+                ..CompleteOptions::default()
+            },
         }
     }
 }
@@ -87,8 +146,11 @@ pub struct GenerateArgs {
     output: PathBuf,
     /// Vertices to generate [default: a rule on the input's occupancy and curvature, see
     /// BENCHMARKS.md].
-    #[arg(long)]
+    #[arg(long, conflicts_with = "faces")]
     vertices: Option<usize>,
+    /// Faces to aim for (the result lands near it; the report says what came out).
+    #[arg(long)]
+    faces: Option<usize>,
     #[command(flatten)]
     sampling: SamplingArgs,
     /// Print JSON (timings, budget, topology) instead of text.
@@ -137,11 +199,15 @@ pub fn load_models(dir: &Path, device: &Device) -> Result<Models> {
 struct GenerateReport<'a> {
     input: String,
     output: String,
+    /// `--faces`, when given (the faces made are in `topology`).
+    faces_asked: Option<usize>,
     vertex_budget: usize,
     features: ShapeFeatures,
     load_s: f64,
     times: &'a StageTimes,
     extract: &'a meshflow::extract::ExtractReport,
+    fit: &'a meshflow::fit::FitReport,
+    complete: &'a meshflow::complete::CompleteReport,
     topology: &'a meshflow::topology::TopologyReport,
 }
 
@@ -186,13 +252,21 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
         vec![(args.input.clone(), args.output.clone())]
     };
     let generator = models.generator(&device);
-    let opts = args.sampling.options(args.vertices);
+    let opts = args.sampling.options(args.vertices, args.faces);
     let batch = jobs.len() > 1;
     let mut failures = 0;
     for (input, output) in &jobs {
         let started = Instant::now();
         let result = read_input(input).and_then(|mesh| {
             let points = input_points(&mesh, opts.seed).map_err(|e| BadInput(e.to_string()))?;
+            if mesh.faces.is_empty() && points.len() < mesh.positions.len() && !args.json {
+                println!(
+                    "{}: {} points, conditioning on {} of them (an even random subsample)",
+                    input.display(),
+                    mesh.positions.len(),
+                    points.len()
+                );
+            }
             let load_s = load_model_s + started.elapsed().as_secs_f64();
             let bar = crate::progress::step_bar(opts.steps, args.json);
             let mut out = generator
@@ -208,7 +282,7 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
             Ok((g, load_s))
         });
         match result {
-            Ok((g, load_s)) => report(&g, input, output, load_s, args.json)?,
+            Ok((g, load_s)) => report(&g, input, output, load_s, args.faces, args.json)?,
             // In batch mode one bad file is reported and the rest still run.
             Err(e) if batch => {
                 eprintln!("error: {e:#}");
@@ -226,16 +300,26 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     Ok(())
 }
 
-fn report(g: &Generated, input: &Path, output: &Path, load_s: f64, json: bool) -> Result<()> {
+fn report(
+    g: &Generated,
+    input: &Path,
+    output: &Path,
+    load_s: f64,
+    faces_asked: Option<usize>,
+    json: bool,
+) -> Result<()> {
     if json {
         let r = GenerateReport {
             input: input.display().to_string(),
             output: output.display().to_string(),
+            faces_asked,
             vertex_budget: g.vertex_budget,
             features: g.features,
             load_s,
             times: &g.times,
             extract: &g.extract,
+            fit: &g.fit,
+            complete: &g.complete,
             topology: &g.topology,
         };
         println!("{}", serde_json::to_string(&r)?);
@@ -244,14 +328,29 @@ fn report(g: &Generated, input: &Path, output: &Path, load_s: f64, json: bool) -
     let t = &g.times;
     let topo = &g.topology;
     println!("{} -> {}", input.display(), output.display());
+    match faces_asked {
+        Some(f) => println!(
+            "  asked for {f} faces: vertex budget {}, {} faces made",
+            g.vertex_budget,
+            g.mesh.faces.len()
+        ),
+        None => println!(
+            "  vertex budget {} (occupancy {}, surface variation {:.4})",
+            g.vertex_budget, g.features.occupied_voxels, g.features.surface_variation
+        ),
+    }
     println!(
-        "  vertex budget {} (occupancy {}, surface variation {:.4})",
-        g.vertex_budget, g.features.occupied_voxels, g.features.surface_variation
+        "  times: load {:.3} s, condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s, \
+         fit {:.3} s",
+        load_s, t.condition_s, t.sample_s, t.decode_s, t.extract_s, t.fit_s
     );
-    println!(
-        "  times: load {:.3} s, condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s",
-        load_s, t.condition_s, t.sample_s, t.decode_s, t.extract_s
-    );
+    if g.fit.iterations > 0 {
+        println!(
+            "  fitted to the input points: mean vertex distance {:.4} -> {:.4} ({} moves held \
+             back in the last round)",
+            g.fit.mean_distance_before, g.fit.mean_distance_after, g.fit.held_back
+        );
+    }
     println!(
         "  {} vertices, {} faces, {} components; {} boundary edges, {} holes, {} non-manifold \
          edges, {} inconsistent winding, {} degenerate faces",
@@ -275,6 +374,8 @@ pub enum BudgetSource {
     Rule,
     /// The ground truth's vertex count (an oracle, for comparison).
     GroundTruth,
+    /// The ground truth's face count, asked for as `--faces` (how well face counts steer).
+    GroundTruthFaces,
 }
 
 #[derive(Args)]
@@ -295,6 +396,14 @@ pub struct EvalGenerateArgs {
     /// A folder with K.poisson.ply from bench/poisson_qem.py: scored as the baseline.
     #[arg(long)]
     baseline: Option<PathBuf>,
+    /// Gaussian noise added to the conditioning points, as a fraction of their bounding box's
+    /// longest side (0.01 = 1% noise, like a scan).
+    #[arg(long, default_value_t = 0.0)]
+    noise: f32,
+    /// Fraction of the conditioning points removed as one region (0.3 = 30% of the surface
+    /// missing, like a partial scan).
+    #[arg(long, default_value_t = 0.0)]
+    missing: f32,
     /// Write the JSON report here.
     #[arg(short, long)]
     output: Option<PathBuf>,
@@ -305,6 +414,9 @@ struct MeshResult {
     name: String,
     gt_vertices: usize,
     vertex_budget: usize,
+    /// With `--budget ground-truth-faces`: the faces asked for, and the faces made.
+    faces_asked: Option<usize>,
+    faces_made: usize,
     ours: Option<Comparison>,
     vae: Option<Comparison>,
     baseline: Option<Comparison>,
@@ -325,6 +437,9 @@ struct EvalGenerateReport {
     weights_dit_sha256: String,
     options: GenerateOptions,
     budget: BudgetSource,
+    /// The conditioning points' degradation (`--noise`, `--missing`).
+    noise: f32,
+    missing: f32,
     backend: String,
     skipped: Vec<String>,
     /// Mean stage times per mesh (batched sampling divided by the batch size).
@@ -351,11 +466,16 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     let models = load_models(&args.sampling.weights, &dev)?;
     let vcfg = &models.vae_manifest.model;
     let (meshes, mut skipped, source) = args.set.meshes(vcfg.num_vertices)?;
+    // The ground truth's face count, within what the model can be asked for.
+    let faces_asked = |m: &Mesh| {
+        let range = faces_range(vcfg.num_vertices);
+        m.faces.len().clamp(*range.start(), *range.end())
+    };
     if let Some(dir) = &args.meshes {
         fs::create_dir_all(dir)?;
     }
     let generator = models.generator(&dev);
-    let base_opts = args.sampling.options(None);
+    let base_opts = args.sampling.options(None, None);
     let compare = CompareOptions::default();
     let bar = indicatif::ProgressBar::new(meshes.len() as u64);
     let mut per_mesh = Vec::new();
@@ -364,23 +484,34 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     let mut timed = 0usize;
     for (c, chunk) in meshes.chunks(args.batch.max(1)).enumerate() {
         let first = c * args.batch.max(1);
-        // Conditioning points: the ground truth's surface, seeded per mesh.
+        // Conditioning points: the ground truth's surface, seeded per mesh, degraded as asked.
+        let degradation = Degradation {
+            noise: args.noise,
+            missing: args.missing,
+        };
         let points: Vec<Vec<glam::Vec3>> = chunk
             .iter()
             .enumerate()
             .map(|(k, (_, m))| {
-                sample_surface(m, CONDITION_POINTS, (first + k) as u64).map(|s| s.points)
+                let seed = (first + k) as u64;
+                sample_surface(m, CONDITION_POINTS, seed)
+                    .map(|s| degrade(&s.points, &degradation, seed))
             })
             .collect::<Result<_, _>>()?;
         // One budget per batch row: sample each mesh alone when budgets come from the ground
         // truth (options are per batch).
         let generated: Vec<Generated> = match args.budget {
             BudgetSource::Rule => generator.generate(&points, &base_opts, &mut |_, _| true)?,
-            BudgetSource::GroundTruth => chunk
+            BudgetSource::GroundTruth | BudgetSource::GroundTruthFaces => chunk
                 .iter()
                 .zip(&points)
                 .map(|((_, m), p)| {
-                    let opts = args.sampling.options(Some(m.positions.len()));
+                    let opts = match args.budget {
+                        BudgetSource::GroundTruth => {
+                            args.sampling.options(Some(m.positions.len()), None)
+                        }
+                        _ => args.sampling.options(None, Some(faces_asked(m))),
+                    };
                     generator
                         .generate(std::slice::from_ref(p), &opts, &mut |_, _| true)
                         .map(|mut g| g.remove(0))
@@ -397,6 +528,7 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         total.sample_s += t.sample_s * rows as f64;
         total.decode_s += t.decode_s * rows as f64;
         total.extract_s += t.extract_s * rows as f64;
+        total.fit_s += t.fit_s * rows as f64;
         timed += chunk.len();
         let gts: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
         let vae = reconstruct_batch(
@@ -437,6 +569,9 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
                 name: name.clone(),
                 gt_vertices: gt.positions.len(),
                 vertex_budget: g.vertex_budget,
+                faces_asked: matches!(args.budget, BudgetSource::GroundTruthFaces)
+                    .then(|| faces_asked(gt)),
+                faces_made: g.mesh.faces.len(),
                 ours: score(&g.mesh),
                 vae: vae_mesh.and_then(score),
                 baseline: baseline.as_ref().and_then(score),
@@ -461,6 +596,7 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         sample_s: total.sample_s / n,
         decode_s: total.decode_s / n,
         extract_s: total.extract_s / n,
+        fit_s: total.fit_s / n,
     };
     let all: Vec<&MeshResult> = per_mesh.iter().collect();
     let buckets = [256usize, 512, 1024]
@@ -480,6 +616,8 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         weights_dit_sha256: models.dit_manifest.sha256.clone(),
         options: base_opts,
         budget: args.budget,
+        noise: args.noise,
+        missing: args.missing,
         backend: BackendKind::from(args.sampling.backend).name().into(),
         skipped,
         mean_times,
@@ -508,8 +646,9 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     }
     let t = &report.mean_times;
     println!(
-        "  mean per mesh: condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s",
-        t.condition_s, t.sample_s, t.decode_s, t.extract_s
+        "  mean per mesh: condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s, \
+         fit {:.3} s",
+        t.condition_s, t.sample_s, t.decode_s, t.extract_s, t.fit_s
     );
     if let Some(out) = &args.output {
         fs::write(out, serde_json::to_string_pretty(&report)?)?;
@@ -634,7 +773,7 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     let points = input_points(&read_input(&args.input)?, args.sampling.seed)
         .map_err(|e| BadInput(e.to_string()))?;
     let generator = models.generator(&dev);
-    let opts = args.sampling.options(args.vertices);
+    let opts = args.sampling.options(args.vertices, None);
     let mut runs = Vec::new();
     for _ in 0..=args.runs.max(1) {
         let g = generator
@@ -661,8 +800,11 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
             sample_s: median(&|t| t.sample_s),
             decode_s: median(&|t| t.decode_s),
             extract_s: median(&|t| t.extract_s),
+            fit_s: median(&|t| t.fit_s),
         },
-        median_total_s: median(&|t| t.condition_s + t.sample_s + t.decode_s + t.extract_s),
+        median_total_s: median(&|t| {
+            t.condition_s + t.sample_s + t.decode_s + t.extract_s + t.fit_s
+        }),
         machine: crate::train::machine_description(),
     };
     let json = serde_json::to_string_pretty(&report)?;

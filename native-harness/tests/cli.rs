@@ -637,6 +637,66 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
     ]);
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("vertex budget 0"));
+
+    // A face count steers the budget and is reported next to what came out; one the model
+    // cannot make, or one beside --vertices, is refused, and no output file is left behind.
+    let report = json(&meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+        "--steps",
+        "2",
+        "--faces",
+        "150",
+        "--json",
+    ]));
+    assert_eq!(report["faces_asked"], 150);
+    assert_eq!(report["vertex_budget"], 143);
+    assert!(report["fit"]["iterations"].as_u64().unwrap() > 0);
+    let not_written = dir.join("never.glb");
+    for (flags, message) in [
+        (
+            &["--faces", "5"][..],
+            "5 faces is outside what the model can make: 8..=538",
+        ),
+        (
+            &["--faces", "100", "--vertices", "50"][..],
+            "cannot be used with",
+        ),
+    ] {
+        let mut args = vec![
+            "generate",
+            points.to_str().unwrap(),
+            "-o",
+            not_written.to_str().unwrap(),
+            "--weights",
+            w,
+        ];
+        args.extend_from_slice(flags);
+        let bad = meshflow(&args);
+        assert_eq!(bad.status.code(), Some(2), "{flags:?}");
+        let stderr = String::from_utf8_lossy(&bad.stderr);
+        assert!(stderr.contains(message), "{flags:?}: {stderr}");
+        assert!(!not_written.exists());
+    }
+    let few = dir.join("few.xyz");
+    let rows: String = (0..10).map(|i| format!("{i} {} 0\n", i * i)).collect();
+    std::fs::write(&few, rows).unwrap();
+    let bad = meshflow(&[
+        "generate",
+        few.to_str().unwrap(),
+        "-o",
+        not_written.to_str().unwrap(),
+        "--weights",
+        w,
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(stderr.contains("has 10 points; at least 16"), "{stderr}");
+    assert!(!not_written.exists());
     let mut manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(weights.join("dit.manifest.json")).unwrap()).unwrap();
     let good = manifest.clone();

@@ -238,6 +238,14 @@ await check('the npm package imports and generates the way a user would', async 
            const filtered = await model.generate(points, { ...options, extraction: 'paper', dropNonManifold: true });
            let refused = '';
            try { await model.generate(points, { ...options, dropNonManifold: true }); } catch (e) { refused = e.message; }
+           let both = '';
+           try { await model.generate(points, { ...options, faces: 100 }); } catch (e) { both = e.message; }
+           let tooFew = '';
+           try { await model.generate(points.slice(0, 30), { steps: 1 }); } catch (e) { tooFew = e.message; }
+           const raw = await model.generate(points, { ...options, fit: false });
+           const byFaces = await model.generate(points, { steps: 2, faces: 120 });
+           window.__options = { both, tooFew, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
+             byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
            window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
              nonManifold: filtered.report.topology.non_manifold_edges, refused,
              manifold: { faces: mesh.indices.length / 3, nonManifold: mesh.report.topology.non_manifold_edges,
@@ -274,6 +282,7 @@ await check('the npm package imports and generates the way a user would', async 
   assert(done === 'ok', `the package threw: ${done}`);
   const glbs = await p.evaluate(() => window.__glbs);
   const filtered = await p.evaluate(() => window.__filtered);
+  const optionChecks = await p.evaluate(() => window.__options);
   await b.close();
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
@@ -285,6 +294,12 @@ await check('the npm package imports and generates the way a user would', async 
   assert(f.paper > 0, `extraction: 'paper': ${JSON.stringify(f)}`);
   assert(f.nonManifold === 0 && f.faces > 0, `dropNonManifold: ${JSON.stringify(f)}`);
   assert(/applies to extraction: 'paper' only/.test(f.refused), `dropNonManifold without 'paper' was not refused: ${f.refused}`);
+  // Face counts, fitting and bad input across the wasm boundary.
+  const o = optionChecks;
+  assert(/vertices or for faces, not both/.test(o.both), `vertices with faces was not refused: ${o.both}`);
+  assert(/has 10 points; at least 16/.test(o.tooFew), `10 points were not refused: ${o.tooFew}`);
+  assert(o.rawFaces > 0 && o.fitS >= 0, `fit: false: ${JSON.stringify(o)}`);
+  assert(o.byFaces.budget === Math.round(120 / 1.05) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

@@ -4,6 +4,8 @@ export interface StageTimes {
   sample_s: number;
   decode_s: number;
   extract_s: number;
+  /** Fitting the vertices to the input points and completing the surface. */
+  fit_s: number;
 }
 
 /** DESIGN.md section 3's topology figures. */
@@ -31,6 +33,17 @@ export interface GenerateReport {
 export interface GenerateOptions {
   /** Vertices to ask for (1..maxVertices); default: a rule on the input's shape. */
   vertices?: number;
+  /**
+   * Faces to aim for instead of a vertex count (a TypeError with `vertices`); the result
+   * lands near it (`report.topology.faces` says what came out). Outside what the model can
+   * make, the promise rejects with the range.
+   */
+  faces?: number;
+  /**
+   * Default true: move the vertices onto the input points and complete the surface between
+   * them with faces that lie on the points. False keeps the model's own vertices and faces.
+   */
+  fit?: boolean;
   /** Euler steps, default 28. */
   steps?: number;
   seed?: number;

@@ -117,13 +117,21 @@ export class Model {
     return this.#inner.createViewer(canvas);
   }
   /**
-   * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices`, `steps`
-   * (default 28), `seed`, `extraction` (`'manifold'`, the default: no edge with a third face,
-   * consistent winding; or `'paper'`: the paper's Algorithm 1), `dropNonManifold` (with
-   * `'paper'` only: keep at most two faces per edge), `onStep(step, steps)`, `signal` (an
-   * AbortSignal: aborting cancels between steps and rejects).
+   * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices` or `faces`
+   * (a face count to aim for; not both), `steps` (default 28), `seed`, `extraction`
+   * (`'manifold'`, the default: no edge with a third face, consistent winding; or `'paper'`:
+   * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
+   * per edge), `fit` (default true: vertices moved onto the points and the surface completed
+   * between them), `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels between
+   * steps and rejects).
    */
-  async generate(points, { vertices, steps, seed, extraction, dropNonManifold, onStep, signal } = {}) {
+  async generate(points, { vertices, faces, steps, seed, extraction, dropNonManifold, fit = true, onStep, signal } = {}) {
+    if (vertices !== undefined && faces !== undefined) {
+      throw new TypeError('ask for vertices or for faces, not both');
+    }
+    if (typeof fit !== 'boolean') {
+      throw new TypeError(`fit must be true or false, got ${JSON.stringify(fit)}`);
+    }
     if (extraction !== undefined && extraction !== 'manifold' && extraction !== 'paper') {
       throw new TypeError(`extraction must be 'manifold' or 'paper', got ${JSON.stringify(extraction)}`);
     }
@@ -131,7 +139,14 @@ export class Model {
       throw new TypeError("dropNonManifold applies to extraction: 'paper' only (the default 'manifold' output never has a non-manifold edge)");
     }
     const extract = { method: extraction ?? 'manifold', drop_non_manifold: !!dropNonManifold };
-    const options = JSON.stringify({ vertices, steps, seed, extract });
+    const options = JSON.stringify({
+      vertices,
+      faces,
+      steps,
+      seed,
+      extract,
+      ...(fit ? {} : { fit: { iterations: 0 }, complete: { enabled: false } }),
+    });
     const inner = await this.#inner.generate(points, options, (i, n) => {
       onStep?.(i, n);
       return !signal?.aborted;

@@ -1,0 +1,520 @@
+//! Completing a generated surface between its own vertices, where the input points say there
+//! is surface.
+//!
+//! A small model's edge scores miss many true edges, so the manifold extraction leaves a lace:
+//! fans and strips that touch at vertices, with a hole between almost every pair (27 holes a
+//! mesh on the test split), and some faces spanning air. The vertices themselves are mostly
+//! right, and after [`crate::fit`] they lie on the input's surface; what is missing is faces
+//! between them. [`complete_surface`] offers the triangles a surface through those vertices
+//! would have, and lets the manifold extraction choose among them after the model's own faces:
+//!
+//! 1. **Weld** vertices closer than `weld_ratio` median edges of the model's faces: a decoder's
+//!    near-duplicates make slivers that fold.
+//! 2. **On the surface.** A triangle lies on the input surface when every probe of it (the
+//!    centroid, the edge midpoints, then a barycentric grid about `max_gap` apart) is within
+//!    `max_gap` point spacings of an input point (the spacing: the median distance from an
+//!    input point to its nearest neighbour). With `drop_off_surface`, the model's faces that
+//!    fail it (shards across a concavity, a thin part or a hole) are removed.
+//! 3. **Candidates.** Every triangle `(i, j, l)` with `j` and `l` among the `neighbours`
+//!    nearest vertices of `i` and one of them among the other's, none of whose edges is
+//!    longer than `max_edge_ratio` median edges of the model's faces, with no angle under
+//!    `min_angle_degrees`, that lies on the surface.
+//! 4. **Rank.** Each candidate gets a vote from each of its vertices whose local Delaunay
+//!    triangulation has it: the vertex and its neighbours projected onto the input surface's
+//!    tangent plane there (of its 16 nearest input points), where a triangle is Delaunay when
+//!    its circumcircle holds no other neighbour. Most votes first, then shortest perimeter.
+//! 5. **Choose.** The model's faces first, then the candidates by rank, through
+//!    [`crate::manifold::manifold_faces`] (holes up to `max_hole_edges` edges filled, the
+//!    overlap test at `overlap_tolerance`, small pieces dropped as the extraction does): a
+//!    candidate is accepted only if every edge keeps at most two faces, it does not fold onto
+//!    a neighbour or lie on another face, and it can be wound consistently with its
+//!    neighbours. So the result keeps every guarantee of the manifold extraction, and the
+//!    model's connectivity wherever it had any. Winding preference: Algorithm 1's rule from
+//!    the vertex normals.
+//! 6. **Keep the model's surface if this loses it.** When the result has fewer than half the
+//!    model's faces (input points far from the vertices, say), the model's mesh comes back
+//!    unchanged.
+//!
+//! Cost: a k-nearest search and a local Delaunay test (k^3) per vertex, and per candidate a
+//! few nearest-point queries; tens of milliseconds at 512 vertices.
+
+use std::collections::{HashMap, HashSet};
+
+use glam::{DVec3, Vec2, Vec3};
+use rstar::RTree;
+use rstar::primitives::GeomWithData;
+use serde::{Deserialize, Serialize};
+
+use crate::Mesh;
+use crate::clean::weld;
+use crate::extract::orient_face;
+use crate::fit::least_spread_direction;
+use crate::manifold::{ManifoldOptions, ManifoldReport, manifold_faces};
+use crate::normals::vertex_normals;
+use crate::topology::sorted_face;
+
+/// Options of [`complete_surface`] (missing JSON fields take the defaults).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CompleteOptions {
+    /// Offer candidate triangles at all.
+    pub enabled: bool,
+    /// Nearest vertices each vertex may form a triangle with.
+    pub neighbours: usize,
+    /// Longest candidate edge, in median edges of the model's faces.
+    pub max_edge_ratio: f32,
+    /// Smallest candidate angle, in degrees.
+    pub min_angle_degrees: f32,
+    /// Farthest any point of a candidate may be from an input point, in input point
+    /// spacings.
+    pub max_gap: f32,
+    /// Also remove the model's faces that fail the same surface test (shards spanning air).
+    pub drop_off_surface: bool,
+    /// Weld vertices closer than this many median edges first (a decoder's near-duplicates
+    /// make slivers that fold; 0: none).
+    pub weld_ratio: f32,
+    /// The overlap test of the final choice ([`crate::overlap`]), in longest edges: with the
+    /// vertices on the surface, a face lying on another one not next to it is a second layer.
+    pub overlap_tolerance: f32,
+    /// Close hole loops of at most this many edges afterwards (the extraction's own limit
+    /// when smaller): with the vertices on the surface, longer loops close cleanly.
+    pub max_hole_edges: usize,
+}
+
+impl Default for CompleteOptions {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            neighbours: 24,
+            max_edge_ratio: 8.0,
+            min_angle_degrees: 15.0,
+            max_gap: 6.0,
+            drop_off_surface: true,
+            weld_ratio: 0.25,
+            overlap_tolerance: 0.5,
+            max_hole_edges: 8,
+        }
+    }
+}
+
+/// What [`complete_surface`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct CompleteReport {
+    /// Candidate triangles that passed the tests of step 1.
+    pub candidates: usize,
+    /// Faces of the result that the model had not made.
+    pub added: usize,
+    /// Vertices welded into a neighbour closer than [`CompleteOptions::weld_ratio`].
+    pub welded_vertices: usize,
+    /// Faces of the model removed because they leave the input surface.
+    pub off_surface: usize,
+    /// True when the completed surface had fewer than half the model's faces, so the model's
+    /// mesh was returned unchanged.
+    pub kept_model_surface: bool,
+    /// Other faces of the model that the choice did not keep (they fold onto a neighbour now
+    /// that the vertices have moved).
+    pub model_faces_dropped: usize,
+}
+
+type Indexed = GeomWithData<[f32; 3], u32>;
+
+/// The faces of a surface through `positions` (see the module documentation): `faces` (the
+/// model's, manifold and consistently wound) completed by triangles that lie on the surface
+/// sampled by `points`. `normals` are per vertex (winding preference), `manifold` the options
+/// of the final choice (hole filling, small pieces). With no finite point, no vertex or
+/// `enabled` off, `faces` comes back unchanged.
+pub fn complete_surface(
+    mesh: &Mesh,
+    points: &[Vec3],
+    opts: &CompleteOptions,
+    manifold: &ManifoldOptions,
+) -> (Mesh, CompleteReport) {
+    let mut report = CompleteReport::default();
+    let points: Vec<Indexed> = points
+        .iter()
+        .enumerate()
+        .filter(|(_, p)| p.is_finite())
+        .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+        .collect();
+    if !opts.enabled || points.len() < 2 || mesh.positions.len() < 3 {
+        return (mesh.clone(), report);
+    }
+    let point_tree = RTree::bulk_load(points);
+    let spacing = point_spacing(&point_tree);
+    let edge_scale = median_edge(&mesh.positions, &mesh.faces).unwrap_or(spacing * 4.0);
+    let (mut welded, merged) = weld(mesh, opts.weld_ratio * edge_scale);
+    report.welded_vertices = merged;
+    welded.faces.retain(|&[a, b, c]| a != b && b != c && c != a);
+    let (positions, normals, faces) = (&welded.positions, &welded.normals, &welded.faces);
+    let vertex_tree = RTree::bulk_load(
+        positions
+            .iter()
+            .enumerate()
+            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+            .collect::<Vec<Indexed>>(),
+    );
+    let k = opts.neighbours.max(2);
+    let near: Vec<HashSet<u32>> = positions
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            vertex_tree
+                .nearest_neighbor_iter(p.to_array())
+                .filter(|n| n.data != i as u32)
+                .take(k)
+                .map(|n| n.data)
+                .collect()
+        })
+        .collect();
+    let max_edge = opts.max_edge_ratio * edge_scale;
+    let max_gap = opts.max_gap * spacing;
+    let min_sin = opts.min_angle_degrees.to_radians().sin();
+    let existing: HashSet<[u32; 3]> = faces.iter().map(|&f| sorted_face(f)).collect();
+    let normals: Vec<Vec3> = if normals.len() == positions.len() {
+        normals.clone()
+    } else {
+        vertex_normals(positions, faces)
+    };
+    let model_faces: Vec<[u32; 3]> = faces
+        .iter()
+        .copied()
+        .filter(|f| {
+            !opts.drop_off_surface
+                || on_surface(f.map(|v| positions[v as usize]), &point_tree, max_gap)
+        })
+        .collect();
+    report.off_surface = faces.len() - model_faces.len();
+    let votes = local_delaunay_votes(positions, &near, &point_tree);
+
+    let mut candidates: Vec<([u32; 3], f32)> = Vec::new();
+    let mut seen: HashSet<[u32; 3]> = HashSet::new();
+    for (i, ni) in near.iter().enumerate() {
+        let i = i as u32;
+        let mut around: Vec<u32> = ni.iter().copied().collect();
+        around.sort_unstable();
+        for (x, &j) in around.iter().enumerate() {
+            for &l in &around[x + 1..] {
+                if !(near[j as usize].contains(&l) || near[l as usize].contains(&j)) {
+                    continue;
+                }
+                let tri = sorted_face([i, j, l]);
+                if existing.contains(&tri) || !seen.insert(tri) {
+                    continue;
+                }
+                let corners = tri.map(|v| positions[v as usize]);
+                if let Some(perimeter) = usable(corners, max_edge, min_sin)
+                    && on_surface(corners, &point_tree, max_gap)
+                {
+                    let v = votes.get(&tri).copied().unwrap_or(0);
+                    candidates.push((tri, perimeter / edge_scale - 10.0 * f32::from(v)));
+                }
+            }
+        }
+    }
+    report.candidates = candidates.len();
+    // The model's faces first (above any candidate), then the candidates by rank: most
+    // votes, then shortest.
+    candidates.sort_by(|a, b| a.1.total_cmp(&b.1).then(a.0.cmp(&b.0)));
+    let mut preferred: Vec<[u32; 3]> = model_faces.clone();
+    let mut scores: Vec<f32> = vec![f32::MAX; model_faces.len()];
+    for (tri, rank) in &candidates {
+        preferred.push(orient_face(*tri, positions, &normals));
+        scores.push(-rank);
+    }
+    let manifold = ManifoldOptions {
+        max_hole_edges: manifold.max_hole_edges.max(opts.max_hole_edges),
+        overlap_tolerance: opts.overlap_tolerance,
+        ..*manifold
+    };
+    let (chosen, _): (Vec<[u32; 3]>, ManifoldReport) =
+        manifold_faces(positions, &preferred, &scores, &manifold);
+    let kept: HashSet<[u32; 3]> = chosen.iter().map(|&f| sorted_face(f)).collect();
+    report.model_faces_dropped = model_faces
+        .iter()
+        .filter(|f| !kept.contains(&sorted_face(**f)))
+        .count();
+    report.added = kept.iter().filter(|f| !existing.contains(*f)).count();
+    if chosen.len() < mesh.faces.len() / 2 {
+        // The points disagree with most of the model's surface (far denser or sparser than
+        // the vertices, or elsewhere): keep what the model made rather than lose it.
+        report.kept_model_surface = true;
+        return (mesh.clone(), report);
+    }
+    welded.faces = chosen;
+    (welded, report)
+}
+
+/// For each triangle, how many of its vertices have it in their local Delaunay triangulation:
+/// the vertex and its nearest vertices projected onto the input surface's tangent plane there
+/// (the plane of its 16 nearest input points), where a triangle at the vertex is Delaunay when
+/// its circumcircle holds none of the other projected neighbours. Three votes: all three
+/// vertices agree the triangle belongs to the surface.
+fn local_delaunay_votes(
+    positions: &[Vec3],
+    near: &[HashSet<u32>],
+    points: &RTree<Indexed>,
+) -> HashMap<[u32; 3], u8> {
+    let mut votes: HashMap<[u32; 3], u8> = HashMap::new();
+    for (i, ni) in near.iter().enumerate() {
+        let p = positions[i];
+        let around: Vec<DVec3> = points
+            .nearest_neighbor_iter(p.to_array())
+            .take(16)
+            .map(|q| Vec3::from_array(*q.geom()).as_dvec3())
+            .collect();
+        let Some(normal) = least_spread_direction(&around) else {
+            continue;
+        };
+        let (u, v) = normal.as_vec3().any_orthonormal_pair();
+        let mut ids: Vec<u32> = ni.iter().copied().collect();
+        ids.sort_unstable();
+        let flat: Vec<Vec2> = ids
+            .iter()
+            .map(|&j| {
+                let d = positions[j as usize] - p;
+                Vec2::new(d.dot(u), d.dot(v))
+            })
+            .collect();
+        for x in 0..ids.len() {
+            for y in x + 1..ids.len() {
+                let Some((centre, r2)) = circumcircle(Vec2::ZERO, flat[x], flat[y]) else {
+                    continue;
+                };
+                let empty = (0..ids.len())
+                    .filter(|&z| z != x && z != y)
+                    .all(|z| flat[z].distance_squared(centre) >= r2 * (1.0 - 1e-5));
+                if empty {
+                    *votes
+                        .entry(sorted_face([i as u32, ids[x], ids[y]]))
+                        .or_default() += 1;
+                }
+            }
+        }
+    }
+    votes
+}
+
+/// Centre and squared radius of the circle through three points, `None` when they are
+/// (nearly) collinear.
+fn circumcircle(a: Vec2, b: Vec2, c: Vec2) -> Option<(Vec2, f32)> {
+    let (b, c) = (b - a, c - a);
+    let d = 2.0 * (b.x * c.y - b.y * c.x);
+    let scale = b.length_squared().max(c.length_squared());
+    if d.abs() <= 1e-6 * scale {
+        return None;
+    }
+    let (bb, cc) = (b.length_squared(), c.length_squared());
+    let centre = Vec2::new(c.y * bb - b.y * cc, b.x * cc - c.x * bb) / d;
+    Some((a + centre, centre.length_squared()))
+}
+
+/// Median distance from an input point to its nearest other point (over at most 1,024 of
+/// them, evenly spread in index order).
+fn point_spacing(tree: &RTree<Indexed>) -> f32 {
+    let all: Vec<&Indexed> = tree.iter().collect();
+    let stride = all.len().div_ceil(1024).max(1);
+    let mut d: Vec<f32> = all
+        .iter()
+        .step_by(stride)
+        .filter_map(|p| {
+            tree.nearest_neighbor_iter(*p.geom())
+                .find(|q| q.data != p.data)
+                .map(|q| Vec3::from_array(*q.geom()).distance(Vec3::from_array(*p.geom())))
+        })
+        .collect();
+    d.sort_by(f32::total_cmp);
+    d.get(d.len() / 2).copied().unwrap_or(0.0)
+}
+
+/// Median edge length over `faces`, `None` without faces.
+fn median_edge(positions: &[Vec3], faces: &[[u32; 3]]) -> Option<f32> {
+    let mut lengths: Vec<f32> = faces
+        .iter()
+        .flat_map(|&[a, b, c]| [(a, b), (b, c), (c, a)])
+        .map(|(a, b)| positions[a as usize].distance(positions[b as usize]))
+        .collect();
+    lengths.sort_by(f32::total_cmp);
+    lengths.get(lengths.len() / 2).copied()
+}
+
+/// The triangle's perimeter if no edge is longer than `max_edge` and no angle's sine is below
+/// `min_sin` (nor its angle obtuse past `180 - asin(min_sin)`).
+fn usable(corners: [Vec3; 3], max_edge: f32, min_sin: f32) -> Option<f32> {
+    let [a, b, c] = corners;
+    let edges = [b - a, c - b, a - c];
+    let lengths = edges.map(Vec3::length);
+    if lengths.iter().any(|&l| !(l > 0.0 && l <= max_edge)) {
+        return None;
+    }
+    // sin of each angle = |cross| / (product of its two sides); twice the area is |cross|.
+    let twice_area = edges[0].cross(edges[1]).length();
+    let sines = [
+        twice_area / (lengths[2] * lengths[0]),
+        twice_area / (lengths[0] * lengths[1]),
+        twice_area / (lengths[1] * lengths[2]),
+    ];
+    (sines.iter().all(|&s| s >= min_sin)).then(|| lengths.iter().sum())
+}
+
+/// Whether every probe of the triangle is within `max_gap` of a point: the centroid, the
+/// edge midpoints, then a barycentric grid fine enough that no part of the triangle is more
+/// than about `max_gap` from a probe (at most 16 steps an edge).
+fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool {
+    let [a, b, c] = corners;
+    let max2 = max_gap * max_gap;
+    let near = |p: Vec3| {
+        points
+            .nearest_neighbor(p.to_array())
+            .is_some_and(|q| Vec3::from_array(*q.geom()).distance_squared(p) <= max2)
+    };
+    let coarse = [
+        (a + b + c) / 3.0,
+        (a + b) / 2.0,
+        (b + c) / 2.0,
+        (c + a) / 2.0,
+    ];
+    if !coarse.into_iter().all(near) {
+        return false;
+    }
+    let longest = a.distance(b).max(b.distance(c)).max(c.distance(a));
+    let steps = ((longest / max_gap.max(f32::MIN_POSITIVE)).ceil() as usize).clamp(2, 16);
+    (0..=steps).all(|i| {
+        (0..=steps - i).all(|j| {
+            let k = steps - i - j;
+            // The corners are vertices, already fitted to the surface.
+            if i == steps || j == steps || k == steps {
+                return true;
+            }
+            let (u, v, w) = (i as f32, j as f32, k as f32);
+            near((a * u + b * v + c * w) / steps as f32)
+        })
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::topology::TopologyReport;
+
+    const MANIFOLD: ManifoldOptions = ManifoldOptions {
+        max_hole_edges: 4,
+        min_component_faces: 0,
+        overlap_tolerance: 0.2,
+    };
+
+    /// Points every 0.02 on the square [-1, 1]^2 at z = 0.
+    fn plane_points() -> Vec<Vec3> {
+        (0..=100)
+            .flat_map(|i| {
+                (0..=100).map(move |j| Vec3::new(i as f32 * 0.02 - 1.0, j as f32 * 0.02 - 1.0, 0.0))
+            })
+            .collect()
+    }
+
+    /// A 5x5 grid of vertices spaced 0.4 on z = 0, normals +z, with the given faces.
+    fn grid(faces: Vec<[u32; 3]>) -> Mesh {
+        let positions: Vec<Vec3> = (0..25)
+            .map(|k| Vec3::new((k % 5) as f32 * 0.4 - 0.8, (k / 5) as f32 * 0.4 - 0.8, 0.0))
+            .collect();
+        Mesh {
+            normals: vec![Vec3::Z; positions.len()],
+            positions,
+            faces,
+        }
+    }
+
+    #[test]
+    fn a_lace_of_faces_becomes_one_sheet() {
+        // Two faces of the model, far apart: the rest is for completion to find.
+        let model = grid(vec![[0, 1, 6], [18, 19, 24]]);
+        let (mesh, r) = complete_surface(
+            &model,
+            &plane_points(),
+            &CompleteOptions::default(),
+            &MANIFOLD,
+        );
+        let topo = TopologyReport::of(&mesh);
+        // The 4x4 cells of the grid, two triangles each, one piece with one border loop.
+        assert_eq!(mesh.faces.len(), 32, "{r:?}");
+        assert_eq!(
+            (topo.non_manifold_edges, topo.inconsistent_winding_edges),
+            (0, 0)
+        );
+        assert_eq!((topo.components, topo.holes), (1, 1));
+        assert_eq!((r.model_faces_dropped, r.off_surface, r.added), (0, 0, 30));
+        assert!(mesh.faces.contains(&[0, 1, 6]) && mesh.faces.contains(&[18, 19, 24]));
+        // Wound like the model's faces and the normals: +z.
+        for f in &mesh.faces {
+            let [a, b, c] = f.map(|v| mesh.positions[v as usize]);
+            assert!((b - a).cross(c - a).z > 0.0);
+        }
+    }
+
+    /// The plane's points without those with |x| < 0.35: the grid's vertex column x = 0
+    /// stands in a gap 0.7 wide, and every triangle reaching it has an edge midpoint 0.15 or
+    /// more from the surface (a gap of 3 spacings is 0.06). Also the options that say so.
+    fn gapped_points() -> (Vec<Vec3>, CompleteOptions) {
+        let points = plane_points()
+            .into_iter()
+            .filter(|p| !(p.x > -0.35 && p.x < 0.35))
+            .collect();
+        let opts = CompleteOptions {
+            max_gap: 3.0,
+            ..Default::default()
+        };
+        (points, opts)
+    }
+
+    #[test]
+    fn no_face_spans_where_the_input_has_no_points() {
+        let (points, opts) = gapped_points();
+        let (mesh, _) = complete_surface(&grid(vec![]), &points, &opts, &MANIFOLD);
+        assert!(mesh.faces.len() >= 16);
+        for f in &mesh.faces {
+            let xs = f.map(|v| mesh.positions[v as usize].x);
+            let left = xs.iter().all(|&x| x <= -0.39);
+            let right = xs.iter().all(|&x| x >= 0.39);
+            assert!(left || right, "a face crosses the gap: {xs:?}");
+        }
+    }
+
+    #[test]
+    fn a_model_face_across_the_gap_is_dropped() {
+        let (points, opts) = gapped_points();
+        // Vertices 1, 3 (x = -0.4, 0.4) and 8 (x = 0.4): a shard spanning the gap.
+        let (mesh, r) = complete_surface(&grid(vec![[1, 3, 8]]), &points, &opts, &MANIFOLD);
+        assert_eq!(r.off_surface, 1);
+        assert!(!mesh.faces.iter().any(|f| sorted_face(*f) == [1, 3, 8]));
+    }
+
+    #[test]
+    fn off_or_without_points_nothing_changes() {
+        let model = grid(vec![[0, 1, 6]]);
+        let off = CompleteOptions {
+            enabled: false,
+            ..Default::default()
+        };
+        let (a, _) = complete_surface(&model, &plane_points(), &off, &MANIFOLD);
+        let (b, _) = complete_surface(&model, &[], &CompleteOptions::default(), &MANIFOLD);
+        assert_eq!((a, b), (model.clone(), model));
+    }
+
+    #[test]
+    fn slivers_and_long_edges_are_not_candidates() {
+        let max = 1.0;
+        let min_sin = 15f32.to_radians().sin();
+        let good = [Vec3::ZERO, Vec3::X * 0.5, Vec3::Y * 0.5];
+        assert!(usable(good, max, min_sin).is_some());
+        let sliver = [Vec3::ZERO, Vec3::X * 0.5, Vec3::new(0.25, 0.01, 0.0)];
+        assert!(usable(sliver, max, min_sin).is_none());
+        let long = [Vec3::ZERO, Vec3::X * 2.0, Vec3::Y * 2.0];
+        assert!(usable(long, max, min_sin).is_none());
+    }
+
+    #[test]
+    fn a_regular_fan_is_locally_delaunay_at_its_centre() {
+        let c = circumcircle(Vec2::ZERO, Vec2::X, Vec2::Y).unwrap();
+        assert!((c.0 - Vec2::splat(0.5)).length() < 1e-6 && (c.1 - 0.5).abs() < 1e-6);
+        assert!(circumcircle(Vec2::ZERO, Vec2::X, Vec2::X * 2.0).is_none());
+    }
+}

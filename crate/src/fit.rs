@@ -1,0 +1,340 @@
+//! Fitting a generated mesh to the points it was generated from.
+//!
+//! The DiT sees the input points only through its latent tokens' voxel positions, so a decoded
+//! vertex can sit a fraction of a voxel off the surface the user gave. The input points are the
+//! best evidence of that surface; [`fit_to_points`] moves the vertices onto it while keeping the
+//! connectivity and the faces' orientation:
+//!
+//! 1. **Target.** For each vertex, its `neighbours` nearest input points give a
+//!    local plane (their centroid and the direction of least spread, the smallest eigenvector of
+//!    their covariance); the target is the vertex projected onto that plane. Only the offset
+//!    across the surface is corrected, so vertices do not bunch up on the nearest samples.
+//! 2. **Move, unless it folds.** Every vertex moves to its target; then any face whose normal
+//!    turned by 90 degrees or more, or that lost its area, and any pair of faces on an edge that
+//!    now close onto each other ([`crate::manifold::FOLD_COS`]) when they did not before, puts
+//!    its moved vertices back where they were, until no face is flipped or folded. Each pass puts
+//!    back at least one vertex, so it ends, at worst where the iteration began.
+//! 3. Repeat `iterations` times (the planes are re-estimated around the moved vertices).
+//!
+//! Faces, winding and vertex normals are untouched; the mesh stays as manifold as it was. The
+//! cost is a k-nearest search per vertex and iteration in an R-tree over the points: about a
+//! millisecond for 500 vertices against 4,096 points.
+
+use std::collections::HashMap;
+
+use glam::{DVec3, Vec3};
+use rstar::RTree;
+use rstar::primitives::GeomWithData;
+use serde::{Deserialize, Serialize};
+
+use crate::budget::symmetric_eigenvalues;
+use crate::manifold::FOLD_COS;
+use crate::topology::Edge;
+
+/// Options of [`fit_to_points`] (missing JSON fields take the defaults).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct FitOptions {
+    /// Projection rounds; 0 turns fitting off.
+    pub iterations: usize,
+    /// Input points that define each vertex's local plane (at least 3 are used).
+    pub neighbours: usize,
+}
+
+impl Default for FitOptions {
+    fn default() -> Self {
+        Self {
+            iterations: 3,
+            neighbours: 8,
+        }
+    }
+}
+
+impl FitOptions {
+    /// No fitting.
+    pub const OFF: Self = Self {
+        iterations: 0,
+        neighbours: 8,
+    };
+}
+
+/// What [`fit_to_points`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct FitReport {
+    pub iterations: usize,
+    pub vertices: usize,
+    /// Vertex moves refused in the last round because they flipped or folded a face.
+    pub held_back: usize,
+    /// Mean distance from a vertex to its nearest input point, before and after.
+    pub mean_distance_before: f32,
+    pub mean_distance_after: f32,
+}
+
+type Indexed = GeomWithData<[f32; 3], u32>;
+
+/// Moves the vertices of `positions` (faces or not) onto the surface sampled by `points`
+/// (see the module documentation). Non-finite points are ignored; with no finite point, no
+/// face or no iteration nothing moves.
+pub fn fit_to_points(
+    positions: &mut [Vec3],
+    faces: &[[u32; 3]],
+    points: &[Vec3],
+    opts: &FitOptions,
+) -> FitReport {
+    let vertices = positions.len();
+    if opts.iterations == 0 {
+        return FitReport {
+            vertices,
+            ..FitReport::default()
+        };
+    }
+    let tree = RTree::bulk_load(
+        points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_finite())
+            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+            .collect::<Vec<Indexed>>(),
+    );
+    let mut report = FitReport {
+        vertices,
+        ..FitReport::default()
+    };
+    if tree.size() == 0 || vertices == 0 {
+        return report;
+    }
+    let nearest = |p: Vec3| {
+        tree.nearest_neighbor(p.to_array())
+            .map_or(0.0, |n| p.distance(Vec3::from_array(*n.geom())))
+    };
+    let mean_distance = |positions: &[Vec3]| {
+        let sum: f64 = positions.iter().map(|&p| f64::from(nearest(p))).sum();
+        (sum / vertices as f64) as f32
+    };
+    report.mean_distance_before = mean_distance(positions);
+    let pairs = face_pairs(faces);
+    let k = opts.neighbours.max(3);
+    for _ in 0..opts.iterations {
+        let before = positions.to_vec();
+        for p in positions.iter_mut() {
+            *p = project(*p, &tree, k);
+        }
+        report.held_back = hold_back_folds(positions, &before, faces, &pairs);
+        report.iterations += 1;
+    }
+    report.mean_distance_after = mean_distance(positions);
+    report
+}
+
+/// `p` projected onto the plane of its `k` nearest points in `tree`.
+fn project(p: Vec3, tree: &RTree<Indexed>, k: usize) -> Vec3 {
+    let near: Vec<DVec3> = tree
+        .nearest_neighbor_iter(p.to_array())
+        .take(k)
+        .map(|n| Vec3::from_array(*n.geom()).as_dvec3())
+        .collect();
+    let Some(normal) = least_spread_direction(&near) else {
+        return p;
+    };
+    let centroid = near.iter().copied().sum::<DVec3>() / near.len() as f64;
+    let v = p.as_dvec3();
+    (v - normal * (v - centroid).dot(normal)).as_vec3()
+}
+
+/// The unit eigenvector of the points' covariance with the smallest eigenvalue (the normal of
+/// the plane that fits them best), or `None` when they do not span a plane's worth of
+/// directions (fewer than 3 points, or all on one line).
+pub(crate) fn least_spread_direction(points: &[DVec3]) -> Option<DVec3> {
+    if points.len() < 3 {
+        return None;
+    }
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec3>() / n;
+    let mut c = [[0.0f64; 3]; 3];
+    for p in points {
+        let d = (*p - mean).to_array();
+        for (i, row) in c.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x += d[i] * d[j] / n;
+            }
+        }
+    }
+    let [smallest, middle, _] = symmetric_eigenvalues(c);
+    // A line (or a point): the middle eigenvalue is zero too, and no plane is defined.
+    if middle <= 1e-12 * (c[0][0] + c[1][1] + c[2][2]).max(1e-300) {
+        return None;
+    }
+    // The eigenvector is orthogonal to the rows of C - lambda I: the longest cross product of
+    // two of them.
+    let rows = [0, 1, 2].map(|i| {
+        let mut r = DVec3::from_array(c[i]);
+        r[i] -= smallest;
+        r
+    });
+    [
+        rows[0].cross(rows[1]),
+        rows[1].cross(rows[2]),
+        rows[2].cross(rows[0]),
+    ]
+    .into_iter()
+    .max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))
+    .and_then(|v| v.try_normalize())
+}
+
+/// The two faces of each edge that has exactly two.
+fn face_pairs(faces: &[[u32; 3]]) -> Vec<[usize; 2]> {
+    let mut by_edge: HashMap<Edge, Vec<usize>> = HashMap::new();
+    for (f, &[a, b, c]) in faces.iter().enumerate() {
+        for (x, y) in [(a, b), (b, c), (c, a)] {
+            by_edge.entry([x.min(y), x.max(y)]).or_default().push(f);
+        }
+    }
+    let mut pairs: Vec<[usize; 2]> = by_edge
+        .into_values()
+        .filter_map(|f| <[usize; 2]>::try_from(f).ok())
+        .collect();
+    pairs.sort_unstable();
+    pairs
+}
+
+fn face_normal(positions: &[Vec3], [a, b, c]: [u32; 3]) -> Vec3 {
+    let [p, q, r] = [a, b, c].map(|i| positions[i as usize]);
+    (q - p).cross(r - p).normalize_or_zero()
+}
+
+/// Puts moved vertices back to `before` until no face is flipped (normal turned by 90 degrees
+/// or more, or area lost) and no edge's two faces newly fold onto each other; returns how many
+/// were put back.
+fn hold_back_folds(
+    positions: &mut [Vec3],
+    before: &[Vec3],
+    faces: &[[u32; 3]],
+    pairs: &[[usize; 2]],
+) -> usize {
+    let old: Vec<Vec3> = faces.iter().map(|&f| face_normal(before, f)).collect();
+    let mut held = 0;
+    loop {
+        let new: Vec<Vec3> = faces.iter().map(|&f| face_normal(positions, f)).collect();
+        let mut bad: Vec<usize> = (0..faces.len())
+            .filter(|&f| new[f] == Vec3::ZERO || new[f].dot(old[f]) <= 0.0)
+            .collect();
+        bad.extend(pairs.iter().flat_map(|&[f, g]| {
+            let folds = new[f].dot(new[g]) < FOLD_COS && old[f].dot(old[g]) >= FOLD_COS;
+            if folds { vec![f, g] } else { Vec::new() }
+        }));
+        let mut reverted = 0;
+        for f in bad {
+            for i in faces[f] {
+                let i = i as usize;
+                if positions[i] != before[i] {
+                    positions[i] = before[i];
+                    reverted += 1;
+                }
+            }
+        }
+        if reverted == 0 {
+            return held;
+        }
+        held += reverted;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn grid_points(z: impl Fn(f32, f32) -> f32) -> Vec<Vec3> {
+        let mut points = Vec::new();
+        for i in 0..=40 {
+            for j in 0..=40 {
+                let (x, y) = (i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0);
+                points.push(Vec3::new(x, y, z(x, y)));
+            }
+        }
+        points
+    }
+
+    /// A 3x3 grid of vertices (8 faces, wound +z) lifted by `dz`.
+    fn square(dz: impl Fn(usize) -> f32) -> (Vec<Vec3>, Vec<[u32; 3]>) {
+        let positions = (0..9)
+            .map(|k| {
+                let (i, j) = (k % 3, k / 3);
+                Vec3::new(i as f32 * 0.5 - 0.5, j as f32 * 0.5 - 0.5, dz(k))
+            })
+            .collect();
+        let mut faces = Vec::new();
+        for j in 0..2u32 {
+            for i in 0..2u32 {
+                let a = j * 3 + i;
+                faces.push([a, a + 1, a + 4]);
+                faces.push([a, a + 4, a + 3]);
+            }
+        }
+        (positions, faces)
+    }
+
+    #[test]
+    fn vertices_off_a_plane_land_on_it_without_sliding_along_it() {
+        let points = grid_points(|_, _| 0.0);
+        let (mut positions, faces) = square(|k| 0.05 * (k % 3) as f32 - 0.03);
+        let xy: Vec<_> = positions.iter().map(|p| (p.x, p.y)).collect();
+        let report = fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
+        assert_eq!(report.vertices, 9);
+        assert_eq!(report.held_back, 0);
+        assert!(report.mean_distance_before > 0.02);
+        for (p, (x, y)) in positions.iter().zip(xy) {
+            assert!(p.z.abs() < 1e-5, "{p}");
+            assert!((p.x - x).abs() < 1e-5 && (p.y - y).abs() < 1e-5, "{p}");
+        }
+        assert!(report.mean_distance_after < 1e-5);
+    }
+
+    #[test]
+    fn a_move_that_would_flip_a_face_is_held_back() {
+        // Points on the plane x = 0.6, across the square: projecting every vertex onto it
+        // would collapse every face to a line, so every move is held back.
+        let (mut positions, faces) = square(|_| 0.0);
+        let original = positions.clone();
+        let normals_before: Vec<Vec3> = faces.iter().map(|&f| face_normal(&positions, f)).collect();
+        let points: Vec<Vec3> = (0..=40)
+            .flat_map(|i| {
+                (0..=40).map(move |j| Vec3::new(0.6, i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0))
+            })
+            .collect();
+        let report = fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
+        assert!(report.held_back > 0);
+        for (f, &face) in faces.iter().enumerate() {
+            let n = face_normal(&positions, face);
+            assert!(
+                n != Vec3::ZERO && n.dot(normals_before[f]) > 0.0,
+                "face {f} flipped"
+            );
+        }
+        assert_eq!(positions, original);
+    }
+
+    #[test]
+    fn no_points_or_no_iterations_leave_the_mesh_alone() {
+        let (mut positions, faces) = square(|k| k as f32 * 0.01);
+        let original = positions.clone();
+        fit_to_points(&mut positions, &faces, &[], &FitOptions::default());
+        assert_eq!(positions, original);
+        let points = grid_points(|_, _| 0.0);
+        fit_to_points(&mut positions, &faces, &points, &FitOptions::OFF);
+        assert_eq!(positions, original);
+        let nan = vec![Vec3::NAN; 10];
+        fit_to_points(&mut positions, &faces, &nan, &FitOptions::default());
+        assert_eq!(positions, original);
+    }
+
+    #[test]
+    fn points_on_a_line_define_no_plane() {
+        let line: Vec<DVec3> = (0..10).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
+        assert_eq!(least_spread_direction(&line), None);
+        let plane: Vec<DVec3> = (0..16)
+            .map(|i| DVec3::new((i % 4) as f64, (i / 4) as f64, 0.0))
+            .collect();
+        let n = least_spread_direction(&plane).unwrap();
+        assert!((n.z.abs() - 1.0).abs() < 1e-9);
+    }
+}
