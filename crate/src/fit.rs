@@ -11,9 +11,10 @@
 //!    across the surface is corrected, so vertices do not bunch up on the nearest samples.
 //! 2. **Move, unless it folds.** Every vertex moves to its target; then any face whose normal
 //!    turned by 90 degrees or more, or that lost its area, and any pair of faces on an edge that
-//!    now close onto each other ([`crate::manifold::FOLD_COS`]) when they did not before, puts
-//!    its moved vertices back where they were, until no face is flipped or folded. Each pass puts
-//!    back at least one vertex, so it ends, at worst where the iteration began.
+//!    now close onto each other ([`crate::manifold::FOLD_COS`]) when they did not before,
+//!    shortens the moves of its vertices: half way, a quarter, then not at all, until no face
+//!    is flipped or folded. Each pass shortens at least one move, so it ends, at worst where
+//!    the iteration began.
 //! 3. Repeat `iterations` times (the planes are re-estimated around the moved vertices).
 //!
 //! Faces, winding and vertex normals are untouched; the mesh stays as manifold as it was. The
@@ -63,7 +64,8 @@ impl FitOptions {
 pub struct FitReport {
     pub iterations: usize,
     pub vertices: usize,
-    /// Vertex moves refused in the last round because they flipped or folded a face.
+    /// Vertex moves refused outright in the last round (even a quarter of the move flipped or
+    /// folded a face).
     pub held_back: usize,
     /// Mean distance from a vertex to its nearest input point, before and after.
     pub mean_distance_before: f32,
@@ -202,9 +204,10 @@ fn face_normal(positions: &[Vec3], [a, b, c]: [u32; 3]) -> Vec3 {
     (q - p).cross(r - p).normalize_or_zero()
 }
 
-/// Puts moved vertices back to `before` until no face is flipped (normal turned by 90 degrees
-/// or more, or area lost) and no edge's two faces newly fold onto each other; returns how many
-/// were put back.
+/// Shortens the moves from `before` of the vertices of any face that flipped (normal turned by
+/// 90 degrees or more, or area lost) or newly folds onto its neighbour across an edge: each
+/// such vertex goes half as far, then a quarter, then stays where it was, until no face is
+/// flipped or folded. Returns how many vertices were put all the way back.
 fn hold_back_folds(
     positions: &mut [Vec3],
     before: &[Vec3],
@@ -212,7 +215,9 @@ fn hold_back_folds(
     pairs: &[[usize; 2]],
 ) -> usize {
     let old: Vec<Vec3> = faces.iter().map(|&f| face_normal(before, f)).collect();
-    let mut held = 0;
+    let target = positions.to_vec();
+    // How far along its move each vertex is: 1, 1/2, 1/4, then 0.
+    let mut fraction = vec![1.0f32; positions.len()];
     loop {
         let new: Vec<Vec3> = faces.iter().map(|&f| face_normal(positions, f)).collect();
         let mut bad: Vec<usize> = (0..faces.len())
@@ -222,20 +227,28 @@ fn hold_back_folds(
             let folds = new[f].dot(new[g]) < FOLD_COS && old[f].dot(old[g]) >= FOLD_COS;
             if folds { vec![f, g] } else { Vec::new() }
         }));
-        let mut reverted = 0;
+        let mut shortened = false;
         for f in bad {
             for i in faces[f] {
                 let i = i as usize;
                 if positions[i] != before[i] {
-                    positions[i] = before[i];
-                    reverted += 1;
+                    fraction[i] = if fraction[i] > 0.3 {
+                        fraction[i] * 0.5
+                    } else {
+                        0.0
+                    };
+                    positions[i] = before[i] + (target[i] - before[i]) * fraction[i];
+                    if fraction[i] == 0.0 {
+                        // Exactly where it was, whatever the rounding of the line above.
+                        positions[i] = before[i];
+                    }
+                    shortened = true;
                 }
             }
         }
-        if reverted == 0 {
-            return held;
+        if !shortened {
+            return fraction.iter().filter(|&&t| t == 0.0).count();
         }
-        held += reverted;
     }
 }
 
@@ -290,9 +303,9 @@ mod tests {
     }
 
     #[test]
-    fn a_move_that_would_flip_a_face_is_held_back() {
+    fn a_move_that_would_collapse_faces_is_shortened() {
         // Points on the plane x = 0.6, across the square: projecting every vertex onto it
-        // would collapse every face to a line, so every move is held back.
+        // would collapse every face to a line, so the moves are shortened until none does.
         let (mut positions, faces) = square(|_| 0.0);
         let original = positions.clone();
         let normals_before: Vec<Vec3> = faces.iter().map(|&f| face_normal(&positions, f)).collect();
@@ -301,8 +314,7 @@ mod tests {
                 (0..=40).map(move |j| Vec3::new(0.6, i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0))
             })
             .collect();
-        let report = fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
-        assert!(report.held_back > 0);
+        fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
         for (f, &face) in faces.iter().enumerate() {
             let n = face_normal(&positions, face);
             assert!(
@@ -310,7 +322,9 @@ mod tests {
                 "face {f} flipped"
             );
         }
-        assert_eq!(positions, original);
+        assert_ne!(positions, original, "shortened moves still move");
+        let xs: Vec<f32> = positions.iter().map(|p| p.x).collect();
+        assert!(xs.iter().any(|&x| (x - 0.6).abs() > 0.05), "{xs:?}");
     }
 
     #[test]

@@ -29,7 +29,7 @@ use serde::Serialize;
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
 use crate::train::{Backend, load_weights, read_shipped};
-use crate::vae_eval::{DEFAULT_WEIGHTS, EvalSetArgs, SurfaceSummary, eval_meshes};
+use crate::vae_eval::{EvalSetArgs, SurfaceSummary, eval_meshes, weights_dir};
 use meshflow::shipped::{DitManifest, VaeManifest};
 
 /// The sampler's end point, as a command-line value.
@@ -53,9 +53,10 @@ impl From<Schedule> for ScheduleMode {
 /// Options shared by `generate` and `eval generate`.
 #[derive(Args, Clone)]
 pub struct SamplingArgs {
-    /// Folder with the VAE (vae.*) and DiT (dit.*) weights and manifests.
-    #[arg(long, default_value = DEFAULT_WEIGHTS)]
-    weights: PathBuf,
+    /// Folder with the VAE (vae.*) and DiT (dit.*) weights and manifests [default: the
+    /// shipped weights, found from any folder: see README.md].
+    #[arg(long)]
+    weights: Option<PathBuf>,
     /// Euler steps.
     #[arg(long, default_value_t = 28)]
     steps: usize,
@@ -220,7 +221,7 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     let started = Instant::now();
     let device =
         device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&args.sampling.weights, &device)?;
+    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &device)?;
     let load_model_s = started.elapsed().as_secs_f64();
     let jobs: Vec<(PathBuf, PathBuf)> = if args.input.is_dir() {
         fs::create_dir_all(&args.output)
@@ -463,7 +464,7 @@ fn summaries(results: &[&MeshResult], with_baseline: bool) -> MethodSummaries {
 
 pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&args.sampling.weights, &dev)?;
+    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
     let vcfg = &models.vae_manifest.model;
     let (meshes, mut skipped, source) = args.set.meshes(vcfg.num_vertices)?;
     // The ground truth's face count, within what the model can be asked for.
@@ -768,7 +769,7 @@ struct BenchGenerateReport {
 pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     let started = Instant::now();
     let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&args.sampling.weights, &dev)?;
+    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
     let load_s = started.elapsed().as_secs_f64();
     let points = input_points(&read_input(&args.input)?, args.sampling.seed)
         .map_err(|e| BadInput(e.to_string()))?;

@@ -17,8 +17,37 @@ use crate::BadInput;
 use crate::extract_args::ExtractArgs;
 use crate::train::{Backend, load_split, load_weights};
 
-/// Where the shipped weights live, relative to the repository root.
-pub const DEFAULT_WEIGHTS: &str = "weights";
+/// The weights folder to use: `--weights` when given, else the first that holds a
+/// `vae.manifest.json` of: `$MESHFLOW_WEIGHTS`, `./weights`, `weights/` beside the executable
+/// or in `../share/meshflow/` from it, and the repository the binary was built from (so
+/// `cargo install --path native-harness` finds the shipped weights from any folder).
+pub fn weights_dir(flag: Option<&Path>) -> Result<PathBuf> {
+    if let Some(dir) = flag {
+        return Ok(dir.to_path_buf());
+    }
+    let mut tried: Vec<PathBuf> = Vec::new();
+    if let Some(env) = std::env::var_os("MESHFLOW_WEIGHTS") {
+        tried.push(PathBuf::from(env));
+    }
+    tried.push(PathBuf::from("weights"));
+    if let Some(exe_dir) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent().map(Path::to_path_buf))
+    {
+        tried.push(exe_dir.join("weights"));
+        tried.push(exe_dir.join("../share/meshflow/weights"));
+    }
+    tried.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights"));
+    if let Some(found) = tried.iter().find(|d| d.join("vae.manifest.json").is_file()) {
+        return Ok(found.clone());
+    }
+    let list: Vec<String> = tried.iter().map(|d| d.display().to_string()).collect();
+    Err(BadInput(format!(
+        "no shipped weights found (tried {}); pass --weights DIR or set MESHFLOW_WEIGHTS",
+        list.join(", ")
+    ))
+    .into())
+}
 
 #[derive(Args)]
 pub struct ReconstructArgs {
@@ -26,9 +55,10 @@ pub struct ReconstructArgs {
     /// Output mesh (.glb, .obj or .ply), in the input's frame.
     #[arg(short, long)]
     output: PathBuf,
-    /// Folder with vae.safetensors, vae.json and vae.manifest.json.
-    #[arg(long, default_value = DEFAULT_WEIGHTS)]
-    weights: PathBuf,
+    /// Folder with vae.safetensors, vae.json and vae.manifest.json [default: the shipped
+    /// weights, found from any folder: see README.md].
+    #[arg(long)]
+    weights: Option<PathBuf>,
     #[arg(long, value_enum, default_value = "cpu")]
     backend: Backend,
     #[command(flatten)]
@@ -70,8 +100,9 @@ impl EvalSetArgs {
 
 #[derive(Args)]
 pub struct EvalVaeArgs {
-    #[arg(long, default_value = DEFAULT_WEIGHTS)]
-    weights: PathBuf,
+    /// The weights folder [default: the shipped weights, found from any folder].
+    #[arg(long)]
+    weights: Option<PathBuf>,
     #[command(flatten)]
     set: EvalSetArgs,
     /// Write the JSON report here.
@@ -89,7 +120,7 @@ pub struct EvalVaeArgs {
 
 pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
     let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let (vae, manifest) = load_weights(&args.weights, &device)?;
+    let (vae, manifest) = load_weights(&weights_dir(args.weights.as_deref())?, &device)?;
     let input = meshflow::io::read_path(&args.mesh, &meshflow::io::Limits::default())
         .with_context(|| format!("cannot read {}", args.mesh.display()))
         .map_err(|e| BadInput(format!("{e:#}")))?;
@@ -353,7 +384,7 @@ const BATCH: usize = 8;
 
 pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let (vae, manifest) = load_weights(&args.weights, &device)?;
+    let (vae, manifest) = load_weights(&weights_dir(args.weights.as_deref())?, &device)?;
     let cfg = &manifest.model;
     let (meshes, mut skipped, source) = args.set.meshes(cfg.num_vertices)?;
     if let Some(dir) = &args.meshes {
@@ -424,7 +455,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         })
         .collect();
     let report = EvalReport {
-        weights: args.weights.display().to_string(),
+        weights: weights_dir(args.weights.as_deref())?.display().to_string(),
         weights_sha256: manifest.sha256.clone(),
         source,
         token_compression: cfg.merge_ratio() as f64,
