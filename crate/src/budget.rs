@@ -94,22 +94,28 @@ pub fn shape_features(points: &[Vec3], seed: u64) -> ShapeFeatures {
 
 /// `l0 / (l0 + l1 + l2)` of the points' covariance (0 for coincident points).
 fn smallest_eigenvalue_share(points: &[DVec3]) -> f64 {
-    let n = points.len() as f64;
-    let mean = points.iter().copied().sum::<DVec3>() / n;
-    let mut c = [[0.0f64; 3]; 3];
-    for p in points {
-        let d = (*p - mean).to_array();
-        for i in 0..3 {
-            for j in 0..3 {
-                c[i][j] += d[i] * d[j] / n;
-            }
-        }
-    }
+    let c = covariance(points);
     let trace = c[0][0] + c[1][1] + c[2][2];
     if trace <= 1e-18 {
         return 0.0;
     }
     (symmetric_eigenvalues(c)[0] / trace).clamp(0.0, 1.0 / 3.0)
+}
+
+/// The covariance matrix of `points` (non-empty), normalised by their count.
+pub(crate) fn covariance(points: &[DVec3]) -> [[f64; 3]; 3] {
+    let n = points.len() as f64;
+    let mean = points.iter().copied().sum::<DVec3>() / n;
+    let mut c = [[0.0f64; 3]; 3];
+    for p in points {
+        let d = (*p - mean).to_array();
+        for (i, row) in c.iter_mut().enumerate() {
+            for (j, x) in row.iter_mut().enumerate() {
+                *x += d[i] * d[j] / n;
+            }
+        }
+    }
+    c
 }
 
 /// Eigenvalues, ascending, of a symmetric 3x3 matrix (closed form, trigonometric).

@@ -28,8 +28,8 @@ use rstar::RTree;
 use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
-use crate::budget::symmetric_eigenvalues;
-use crate::manifold::FOLD_COS;
+use crate::budget::{covariance, symmetric_eigenvalues};
+use crate::manifold::{FOLD_COS, unit_normal};
 use crate::topology::Edge;
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).
@@ -150,17 +150,7 @@ pub(crate) fn least_spread_direction(points: &[DVec3]) -> Option<DVec3> {
     if points.len() < 3 {
         return None;
     }
-    let n = points.len() as f64;
-    let mean = points.iter().copied().sum::<DVec3>() / n;
-    let mut c = [[0.0f64; 3]; 3];
-    for p in points {
-        let d = (*p - mean).to_array();
-        for (i, row) in c.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                *x += d[i] * d[j] / n;
-            }
-        }
-    }
+    let c = covariance(points);
     let [smallest, middle, _] = symmetric_eigenvalues(c);
     // A line (or a point): the middle eigenvalue is zero too, and no plane is defined.
     if middle <= 1e-12 * (c[0][0] + c[1][1] + c[2][2]).max(1e-300) {
@@ -199,11 +189,6 @@ fn face_pairs(faces: &[[u32; 3]]) -> Vec<[usize; 2]> {
     pairs
 }
 
-fn face_normal(positions: &[Vec3], [a, b, c]: [u32; 3]) -> Vec3 {
-    let [p, q, r] = [a, b, c].map(|i| positions[i as usize]);
-    (q - p).cross(r - p).normalize_or_zero()
-}
-
 /// Shortens the moves from `before` of the vertices of any face that flipped (normal turned by
 /// 90 degrees or more, or area lost) or newly folds onto its neighbour across an edge: each
 /// such vertex goes half as far, then a quarter, then stays where it was, until no face is
@@ -214,12 +199,12 @@ fn hold_back_folds(
     faces: &[[u32; 3]],
     pairs: &[[usize; 2]],
 ) -> usize {
-    let old: Vec<Vec3> = faces.iter().map(|&f| face_normal(before, f)).collect();
+    let old: Vec<Vec3> = faces.iter().map(|&f| unit_normal(before, f)).collect();
     let target = positions.to_vec();
     // How far along its move each vertex is: 1, 1/2, 1/4, then 0.
     let mut fraction = vec![1.0f32; positions.len()];
     loop {
-        let new: Vec<Vec3> = faces.iter().map(|&f| face_normal(positions, f)).collect();
+        let new: Vec<Vec3> = faces.iter().map(|&f| unit_normal(positions, f)).collect();
         let mut bad: Vec<usize> = (0..faces.len())
             .filter(|&f| new[f] == Vec3::ZERO || new[f].dot(old[f]) <= 0.0)
             .collect();
@@ -308,7 +293,7 @@ mod tests {
         // would collapse every face to a line, so the moves are shortened until none does.
         let (mut positions, faces) = square(|_| 0.0);
         let original = positions.clone();
-        let normals_before: Vec<Vec3> = faces.iter().map(|&f| face_normal(&positions, f)).collect();
+        let normals_before: Vec<Vec3> = faces.iter().map(|&f| unit_normal(&positions, f)).collect();
         let points: Vec<Vec3> = (0..=40)
             .flat_map(|i| {
                 (0..=40).map(move |j| Vec3::new(0.6, i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0))
@@ -316,7 +301,7 @@ mod tests {
             .collect();
         fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
         for (f, &face) in faces.iter().enumerate() {
-            let n = face_normal(&positions, face);
+            let n = unit_normal(&positions, face);
             assert!(
                 n != Vec3::ZERO && n.dot(normals_before[f]) > 0.0,
                 "face {f} flipped"

@@ -93,7 +93,8 @@ pub struct ManifoldReport {
     pub piece_faces_dropped: usize,
 }
 
-fn unit_normal(positions: &[Vec3], [a, b, c]: [u32; 3]) -> Vec3 {
+/// The unit normal of a face, zero when it has (numerically) no area.
+pub(crate) fn unit_normal(positions: &[Vec3], [a, b, c]: [u32; 3]) -> Vec3 {
     let [p, q, r] = [a, b, c].map(|i| positions[i as usize]);
     (q - p).cross(r - p).normalize_or_zero()
 }

@@ -21,6 +21,8 @@ use glam::{Vec2, Vec3};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
+use crate::manifold::unit_normal;
+
 type Boxed = GeomWithData<Rectangle<[f32; 3]>, [u32; 3]>;
 
 /// Smallest |cosine| between two faces' normals for them to count as lying on each other.
@@ -70,7 +72,7 @@ impl FaceLayers {
             return false;
         }
         let [a, b, c] = face.map(|v| positions[v as usize]);
-        let normal = (b - a).cross(c - a).normalize_or_zero();
+        let normal = unit_normal(positions, face);
         if normal == Vec3::ZERO {
             return false;
         }
@@ -89,12 +91,10 @@ impl FaceLayers {
                 if g.iter().filter(|v| face.contains(v)).count() >= 2 {
                     return false;
                 }
-                let corners = g.map(|v| positions[v as usize]);
-                let [p, q, r] = corners;
-                let n = (q - p).cross(r - p).normalize_or_zero();
-                if n.dot(normal).abs() < PARALLEL_COS {
+                if unit_normal(positions, g).dot(normal).abs() < PARALLEL_COS {
                     return false;
                 }
+                let corners = g.map(|v| positions[v as usize]);
                 if corners.iter().any(|&x| (x - a).dot(normal).abs() > reach) {
                     return false;
                 }

@@ -384,7 +384,8 @@ const BATCH: usize = 8;
 
 pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
-    let (vae, manifest) = load_weights(&weights_dir(args.weights.as_deref())?, &device)?;
+    let weights = weights_dir(args.weights.as_deref())?;
+    let (vae, manifest) = load_weights(&weights, &device)?;
     let cfg = &manifest.model;
     let (meshes, mut skipped, source) = args.set.meshes(cfg.num_vertices)?;
     if let Some(dir) = &args.meshes {
@@ -455,7 +456,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         })
         .collect();
     let report = EvalReport {
-        weights: weights_dir(args.weights.as_deref())?.display().to_string(),
+        weights: weights.display().to_string(),
         weights_sha256: manifest.sha256.clone(),
         source,
         token_compression: cfg.merge_ratio() as f64,
