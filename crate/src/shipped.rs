@@ -44,6 +44,9 @@ pub struct VaeManifest {
     /// Per latent channel, over the posterior means of the training meshes.
     pub latent_mean: Vec<f32>,
     pub latent_std: Vec<f32>,
+    /// [`latent_space_sha256`] of the loaded weights (computed by [`load_vae`], not read).
+    #[serde(skip)]
+    pub latent_space_sha256: String,
 }
 
 /// What inference reads from `dit.manifest.json`.
@@ -53,6 +56,41 @@ pub struct DitManifest {
     pub sha256: String,
     /// The VAE whose latents the DiT was trained on.
     pub vae_sha256: String,
+    /// That VAE's [`latent_space_sha256`]: a VAE whose decoder was fine-tuned afterwards
+    /// (encoder and latent statistics untouched) makes the same latents, so the DiT still fits
+    /// it. Absent in manifests written before it existed.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub vae_latent_space_sha256: Option<String>,
+}
+
+/// Whether a VAE tensor belongs to the encoder side (encoder and the pre-KL projection): the
+/// part that defines the latents a DiT learns.
+pub fn is_encoder_side(name: &str) -> bool {
+    name.starts_with("encoder.") || name.starts_with("pre_kl.")
+}
+
+/// The identity of a VAE's latent space: sha256 over its encoder-side tensors (sorted by name;
+/// per tensor the name, each dimension as u64 and the values, little-endian) and then the
+/// latent mean and standard deviation the DiT normalises by. Two VAEs with the same value
+/// encode every mesh to the same normalised latents.
+pub fn latent_space_sha256(weights: &TensorMap, latent_mean: &[f32], latent_std: &[f32]) -> String {
+    let mut h = Sha256::new();
+    for (name, (shape, values)) in &weights.tensors {
+        if !is_encoder_side(name) {
+            continue;
+        }
+        h.update(name.as_bytes());
+        for &d in shape {
+            h.update((d as u64).to_le_bytes());
+        }
+        for v in values {
+            h.update(v.to_le_bytes());
+        }
+    }
+    for v in latent_mean.iter().chain(latent_std) {
+        h.update(v.to_le_bytes());
+    }
+    h.finalize().iter().map(|b| format!("{b:02x}")).collect()
 }
 
 /// Lower-case hex sha256 of `bytes`.
@@ -82,7 +120,7 @@ pub fn load_vae(
     device: &Device,
 ) -> Result<(MeshVae, VaeManifest), ShippedError> {
     let what = "VAE";
-    let m: VaeManifest = serde_json::from_slice(manifest)
+    let mut m: VaeManifest = serde_json::from_slice(manifest)
         .map_err(|source| ShippedError::Manifest { what, source })?;
     check_sha(what, weights, &m.sha256)?;
     m.model
@@ -99,11 +137,13 @@ pub fn load_vae(
         .map_err(|source| ShippedError::Weights { what, source })?;
     let vae = load_module(MeshVae::new(&m.model, device), &map, &|_| false)
         .map_err(|source| ShippedError::Weights { what, source })?;
+    m.latent_space_sha256 = latent_space_sha256(&map, &m.latent_mean, &m.latent_std);
     Ok((vae, m))
 }
 
 /// Parses a DiT manifest and loads `weights` into a DiT on `device`, refusing a DiT trained on
-/// another VAE than `vae`. The reference's image-conditioning tensors are ignored.
+/// another VAE than `vae` (the same VAE file, or one with the same latent space: see
+/// [`latent_space_sha256`]). The reference's image-conditioning tensors are ignored.
 pub fn load_dit(
     manifest: &[u8],
     weights: &[u8],
@@ -114,7 +154,8 @@ pub fn load_dit(
     let m: DitManifest = serde_json::from_slice(manifest)
         .map_err(|source| ShippedError::Manifest { what, source })?;
     check_sha(what, weights, &m.sha256)?;
-    if m.vae_sha256 != vae.sha256 {
+    let same_latents = m.vae_latent_space_sha256.as_ref() == Some(&vae.latent_space_sha256);
+    if m.vae_sha256 != vae.sha256 && !same_latents {
         return Err(ShippedError::VaeMismatch {
             dit_vae: m.vae_sha256,
             vae: vae.sha256.clone(),

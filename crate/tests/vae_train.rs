@@ -284,3 +284,58 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
+
+/// A decoder-only run starts from trained weights, keeps the encoder side bit for bit (so a DiT
+/// trained on its latents still fits: the latent-space identity is unchanged), lowers the
+/// validation loss of the decoder, and refuses to start without weights to start from.
+#[test]
+fn decoder_only_training_keeps_the_latent_space() {
+    use meshflow::shipped::{is_encoder_side, latent_space_sha256};
+    use meshflow::train::vae::train_vae_from;
+    let device = Device::flex();
+    let data = meshes();
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let base = small_config(60);
+    let first = train_vae(
+        &base,
+        &data,
+        &data,
+        &temp_dir("dec-base"),
+        &device,
+        &mut quiet,
+    )
+    .unwrap()
+    .weights;
+    let mut cfg = small_config(60);
+    cfg.decoder_only = true;
+    cfg.seed = 3;
+    let dir = temp_dir("dec-only");
+    assert!(train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).is_err());
+    let tuned = train_vae_from(&cfg, Some(&first), &data, &data, &dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
+    let (mut kept, mut changed) = (0, 0);
+    for (name, tensor) in &first.tensors {
+        if is_encoder_side(name) {
+            assert_eq!(&tuned.tensors[name], tensor, "{name} changed");
+            kept += 1;
+        } else if &tuned.tensors[name] != tensor {
+            changed += 1;
+        }
+    }
+    assert!(kept > 0 && changed > 0, "kept {kept}, changed {changed}");
+    let stats = ([0.1f32; 8], [1.0f32; 8]);
+    assert_eq!(
+        latent_space_sha256(&first, &stats.0, &stats.1),
+        latent_space_sha256(&tuned, &stats.0, &stats.1)
+    );
+    let loss = |w| {
+        let vae = load_module(MeshVae::new(&cfg.model, &device), w, &|_| false).unwrap();
+        validate(&vae, &data, &cfg, &device, 0).unwrap().val_loss
+    };
+    let (before, after) = (loss(&first), loss(&tuned));
+    assert!(after < before, "validation loss {before} -> {after}");
+}

@@ -12,11 +12,11 @@ use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::Mesh;
 use meshflow::dataset::Split;
 use meshflow::device::{BackendKind, device};
-use meshflow::model::{MeshVae, Trace, VaeConfig, load_module};
+use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
 use meshflow::shipped::{VaeManifest, sha256_hex};
 use meshflow::tokens::build_tokens;
 use meshflow::train::TrainObserver;
-use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae};
+use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae_from};
 use serde::{Deserialize, Serialize};
 
 use crate::BadInput;
@@ -60,6 +60,11 @@ pub struct TrainVaeArgs {
     /// written), e.g. for sweep arms with equal budgets.
     #[arg(long)]
     time_budget_s: Option<f64>,
+    /// Start from this weights folder's VAE (same model configuration) instead of a seeded
+    /// initialisation; required by a `decoder_only` configuration, whose result keeps this
+    /// VAE's encoder and latent statistics, so a DiT trained on them still fits.
+    #[arg(long)]
+    init: Option<PathBuf>,
 }
 
 #[derive(Clone, Copy, clap::ValueEnum)]
@@ -342,6 +347,9 @@ pub struct WeightsManifest {
     pub parameters: usize,
     pub command: String,
     pub training: VaeTrainConfig,
+    /// The VAE the run started from (`--init`), when it did not start from scratch.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub init_sha256: Option<String>,
     pub data: String,
     pub train_meshes: usize,
     pub wall_time_s: f64,
@@ -457,6 +465,25 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         )));
     }
     let device = device(args.backend.into()).map_err(|e| anyhow::anyhow!(e))?;
+    let init = match &args.init {
+        Some(dir) => {
+            let (_, manifest) = load_weights(dir, &device)?;
+            if manifest.model != cfg.model {
+                bail!(BadInput(format!(
+                    "--init {}: its VAE configuration differs from the training configuration's",
+                    dir.display()
+                )));
+            }
+            let (_, bytes) = read_shipped(dir, "vae")?;
+            let map = TensorMap::from_safetensors(&bytes, "")?;
+            Some((map, manifest))
+        }
+        None if cfg.decoder_only => bail!(BadInput(
+            "configuration: decoder_only needs --init WEIGHTS (the VAE whose encoder it keeps)"
+                .into()
+        )),
+        None => None,
+    };
     fs::create_dir_all(&args.out)?;
     eprintln!(
         "training MeshVAE on {} meshes (<= {} vertices), validating on {}, {} steps of {} on {}",
@@ -469,14 +496,27 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     );
     let started = Instant::now();
     let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
-    let trained = train_vae(&cfg, &train, &val, &args.out, &device, &mut observer)?;
+    let trained = train_vae_from(
+        &cfg,
+        init.as_ref().map(|(map, _)| map),
+        &train,
+        &val,
+        &args.out,
+        &device,
+        &mut observer,
+    )?;
     observer.bar.finish();
     let wall = started.elapsed().as_secs_f64();
 
     let vae = load_module(MeshVae::new(&cfg.model, &device), &trained.weights, &|_| {
         false
     })?;
-    let (latent_mean, latent_std) = latent_statistics(&vae, &cfg.model, &train, &device);
+    // A decoder-only run keeps the encoder, so the statistics the DiT normalises by stay the
+    // initial VAE's exactly (recomputing could differ in the last bit).
+    let (latent_mean, latent_std) = match &init {
+        Some((_, m)) if cfg.decoder_only => (m.latent_mean.clone(), m.latent_std.clone()),
+        _ => latent_statistics(&vae, &cfg.model, &train, &device),
+    };
     let bytes = trained.weights.to_safetensors(None);
     write_weights(
         &args.out,
@@ -487,6 +527,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
             parameters: trained.weights.tensors.values().map(|(_, v)| v.len()).sum(),
             command: std::env::args().collect::<Vec<_>>().join(" "),
             training: cfg.clone(),
+            init_sha256: init.as_ref().map(|(_, m)| m.sha256.clone()),
             data: data_version(&data),
             train_meshes: train.len(),
             wall_time_s: wall,

@@ -53,6 +53,9 @@ struct DitManifest {
     pub training: DitTrainConfig,
     /// The VAE whose latents the DiT was trained on.
     pub vae_sha256: String,
+    /// Its latent space's identity (`meshflow::shipped::latent_space_sha256`), which a VAE
+    /// with only its decoder fine-tuned shares.
+    pub vae_latent_space_sha256: String,
     /// The shard build's identity (sha256 of its manifest).
     pub data: String,
     pub train_examples: usize,
@@ -130,6 +133,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         command: std::env::args().collect::<Vec<_>>().join(" "),
         training: cfg.clone(),
         vae_sha256: vae_manifest.sha256.clone(),
+        vae_latent_space_sha256: vae_manifest.latent_space_sha256.clone(),
         data: crate::train::data_version(&data),
         train_examples: train.len(),
         final_validation_loss: last_val,

@@ -700,7 +700,25 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
     let mut manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(weights.join("dit.manifest.json")).unwrap()).unwrap();
     let good = manifest.clone();
+    // A DiT names its VAE by file and by latent space: a VAE whose decoder alone was
+    // fine-tuned (another file, the same latent space) still fits it; another latent space
+    // does not.
     manifest["vae_sha256"] = "0".repeat(64).into();
+    std::fs::write(weights.join("dit.manifest.json"), manifest.to_string()).unwrap();
+    let same_latents = meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+    ]);
+    assert!(
+        same_latents.status.success(),
+        "{}",
+        String::from_utf8_lossy(&same_latents.stderr)
+    );
+    manifest["vae_latent_space_sha256"] = "0".repeat(64).into();
     std::fs::write(weights.join("dit.manifest.json"), manifest.to_string()).unwrap();
     let bad = meshflow(&[
         "generate",

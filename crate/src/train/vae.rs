@@ -25,9 +25,10 @@ use crate::Mesh;
 use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
-use crate::model::weights::{TensorMap, WeightsError};
+use crate::model::weights::{TensorMap, WeightsError, load_module};
 use crate::model::{MeshVae, Trace, VaeConfig, seeded_init, spacetime_distances};
 use crate::rng::Rng;
+use crate::shipped::is_encoder_side;
 use crate::tokens::{VertexTokens, build_tokens};
 
 /// Everything that defines a training run; saved in the checkpoint and the weights manifest.
@@ -56,6 +57,11 @@ pub struct VaeTrainConfig {
     /// Random rotation about the up axis (Y) and per-axis scale jitter in `[1-j, 1+j]`.
     pub augment: bool,
     pub scale_jitter: f32,
+    /// Train the decoder side only (post-KL projection, decoder, heads), starting from given
+    /// weights: the encoder, and so every latent a DiT was trained on, stays bit for bit as it
+    /// was, and the DiT keeps fitting the VAE ([`crate::shipped::latent_space_sha256`]).
+    #[serde(default)]
+    pub decoder_only: bool,
 }
 
 impl VaeTrainConfig {
@@ -80,6 +86,7 @@ impl VaeTrainConfig {
             eval_every: 500,
             augment: true,
             scale_jitter: 0.1,
+            decoder_only: false,
         }
     }
 
@@ -252,7 +259,12 @@ pub fn vae_losses_timed(
     cfg: &VaeTrainConfig,
     laps: &mut Laps,
 ) -> VaeLosses {
-    let posterior = vae.encode(batch.features.clone(), &mut Trace::default());
+    let mut posterior = vae.encode(batch.features.clone(), &mut Trace::default());
+    if cfg.decoder_only {
+        // No gradient reaches the encoder side, so AdamW leaves it untouched.
+        posterior.mean = posterior.mean.detach();
+        posterior.logvar = posterior.logvar.detach();
+    }
     let std = (posterior.logvar.clone() * 0.5).exp();
     let z = posterior.mean.clone() + std * noise;
     laps.lap("encoder");
@@ -698,8 +710,29 @@ pub fn train_vae(
     device: &Device,
     observer: &mut dyn TrainObserver,
 ) -> Result<TrainedVae, TrainError> {
+    train_vae_from(cfg, None, train, val, out_dir, device, observer)
+}
+
+/// [`train_vae`] starting from `init` (trained weights of the same configuration) instead of
+/// a seeded initialisation; a `decoder_only` configuration needs it. With `decoder_only` the
+/// returned weights' encoder side is `init`'s, bit for bit (the EMA of a constant could
+/// otherwise drift by rounding).
+pub fn train_vae_from(
+    cfg: &VaeTrainConfig,
+    init: Option<&TensorMap>,
+    train: &[Mesh],
+    val: &[Mesh],
+    out_dir: &Path,
+    device: &Device,
+    observer: &mut dyn TrainObserver,
+) -> Result<TrainedVae, TrainError> {
     cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
+    if cfg.decoder_only && init.is_none() {
+        return Err(TrainError::Weights(WeightsError::Config(
+            "decoder_only: training the decoder alone needs trained weights to start from".into(),
+        )));
+    }
     let train: Vec<&Mesh> = train
         .iter()
         .filter(|m| !m.positions.is_empty() && m.positions.len() <= cfg.model.num_vertices)
@@ -708,7 +741,10 @@ pub fn train_vae(
         return Err(TrainError::NoData(cfg.model.num_vertices));
     }
     let ad_device = device.clone().autodiff();
-    let vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
+    let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
+    if let Some(init) = init {
+        vae = load_module(vae, init, &|_| false).map_err(TrainError::Weights)?;
+    }
     let mut task = VaeTask {
         cfg,
         vertex_counts: train.iter().map(|m| m.positions.len()).collect(),
@@ -728,8 +764,16 @@ pub fn train_vae(
         device,
         observer,
     )?;
+    let mut weights = trained.weights;
+    if let (true, Some(init)) = (cfg.decoder_only, init) {
+        for (name, tensor) in &init.tensors {
+            if is_encoder_side(name) {
+                weights.tensors.insert(name.clone(), tensor.clone());
+            }
+        }
+    }
     Ok(TrainedVae {
-        weights: trained.weights,
+        weights,
         steps: trained.steps,
         last_val: trained.last_validation,
     })
