@@ -13,6 +13,7 @@
 use std::path::Path;
 use std::time::Instant;
 
+use burn::module::Module;
 use burn::optim::GradientsParams;
 use burn::tensor::activation::softplus;
 use burn::tensor::{Device, Tensor, TensorData};
@@ -26,7 +27,7 @@ use crate::augment::{AugmentOptions, augment_mesh};
 use crate::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
 use crate::model::weights::{TensorMap, WeightsError, load_module};
-use crate::model::{MeshVae, Trace, VaeConfig, seeded_init, spacetime_distances};
+use crate::model::{MeshVae, Posterior, Trace, VaeConfig, seeded_init, spacetime_distances};
 use crate::rng::Rng;
 use crate::shipped::is_encoder_side;
 use crate::tokens::{VertexTokens, build_tokens};
@@ -259,12 +260,20 @@ pub fn vae_losses_timed(
     cfg: &VaeTrainConfig,
     laps: &mut Laps,
 ) -> VaeLosses {
-    let mut posterior = vae.encode(batch.features.clone(), &mut Trace::default());
-    if cfg.decoder_only {
-        // No gradient reaches the encoder side, so AdamW leaves it untouched.
-        posterior.mean = posterior.mean.detach();
-        posterior.logvar = posterior.logvar.detach();
-    }
+    let posterior = if cfg.decoder_only && batch.features.is_autodiff() {
+        // The encoder runs outside the autodiff graph, so no gradient reaches it and AdamW
+        // leaves it untouched. (Detaching its outputs instead left the encoder's part of the
+        // graph recorded and never released: 40 MB a step.)
+        let p = vae
+            .valid()
+            .encode(batch.features.clone().inner(), &mut Trace::default());
+        Posterior {
+            mean: p.mean.autodiff(),
+            logvar: p.logvar.autodiff(),
+        }
+    } else {
+        vae.encode(batch.features.clone(), &mut Trace::default())
+    };
     let std = (posterior.logvar.clone() * 0.5).exp();
     let z = posterior.mean.clone() + std * noise;
     laps.lap("encoder");
