@@ -7,7 +7,9 @@
 #    with `--target web` into web/pkg/;
 # 3. shrinks it with npm binaryen@132's `wasm-opt -Oz` (Debian's binaryen 108 corrupts this
 #    module; DESIGN.md section 6);
-# 4. prints the sizes, raw and gzipped.
+# 4. writes the half-size (f16) weights the page and npm package download by default
+#    (scripts/half-weights.mjs: weights/ -> weights/f16/);
+# 5. prints the sizes, raw and gzipped.
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -44,6 +46,9 @@ node_modules/.bin/wasm-opt -Oz --enable-bulk-memory --enable-nontrapping-float-t
     --enable-sign-ext --enable-mutable-globals --enable-reference-types \
     "$OUT/meshflow_bg.wasm" -o "$OUT/meshflow_bg.opt.wasm"
 mv "$OUT/meshflow_bg.opt.wasm" "$OUT/meshflow_bg.wasm"
+
+log "half-size weights for the browser -> weights/f16/"
+node scripts/half-weights.mjs weights weights/f16
 
 raw=$(stat -c %s "$OUT/meshflow_bg.wasm")
 gz=$(gzip -9 -c "$OUT/meshflow_bg.wasm" | wc -c)

@@ -3,10 +3,12 @@
 // into the canvas handed over as an OffscreenCanvas); on the CPU backend the 2D viewer draws
 // here.
 import { bindControls } from './controls.js';
+import { clearWeightsCache } from './lib/index.js';
 import { Viewer2D } from './viewer2d.js';
 
 const $ = (id) => document.getElementById(id);
-const worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+// The model's worker; replaced by a CPU one when the GPU fails (see fallBackToCpu).
+let worker = null;
 
 // Forwards camera operations to the wgpu viewer in the worker. The worker shows the points
 // and meshes itself, as it reads and generates them.
@@ -15,6 +17,7 @@ class WorkerViewer {
   setMesh() {}
   orbit(dx, dy) { worker.postMessage({ type: 'view', op: 'orbit', args: [dx, dy] }); }
   pan(dx, dy) { worker.postMessage({ type: 'view', op: 'pan', args: [dx, dy] }); }
+  setPointsOverlay(on) { worker.postMessage({ type: 'view', op: 'setPointsOverlay', args: [on] }); }
   zoom(factor) { worker.postMessage({ type: 'view', op: 'zoom', args: [factor] }); }
   fit() { worker.postMessage({ type: 'view', op: 'fit', args: [] }); }
 }
@@ -26,6 +29,7 @@ let scene = { points: null, mesh: null };
 function useViewer(v, canvas) {
   viewer = v;
   bindControls(canvas, v);
+  v.setPointsOverlay($('show-points').checked);
   if (scene.points) v.setPoints(scene.points);
   if (scene.mesh) v.setMesh(scene.mesh.positions, scene.mesh.indices);
   document.body.dataset.viewer = v instanceof WorkerViewer ? 'wgpu' : '2d';
@@ -95,8 +99,32 @@ function showStats(report) {
 
 // Recent worker messages with their arrival times, for diagnosing slow main-thread work.
 const events = (window.__meshflowEvents = []);
+// Why the page left WebGPU, once it has.
+let fallbackReason = null;
+let backend = null;
 
-worker.onmessage = ({ data }) => {
+function startWorker(asked) {
+  worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
+  worker.onmessage = onWorkerMessage;
+  worker.postMessage({ type: 'load', backend: asked, weights: params.get('weights') ?? 'f16' });
+}
+
+// The GPU device was lost (a reset, a driver crash) or failed mid-generation: a fresh worker
+// on the CPU path takes over (the old one's wasm may be unusable), the user is told, and the
+// next generation runs there.
+function fallBackToCpu(message) {
+  worker.terminate();
+  ready = false;
+  setRunning(false);
+  fallbackReason = `the GPU failed (${message}), so the page switched to the CPU path`;
+  // The canvas was handed to the old worker; the 2D viewer needs a fresh one.
+  if (document.body.dataset.viewer === 'wgpu') replaceCanvas($('canvas'));
+  viewer = null;
+  $('backend').textContent = 'Switching to the CPU…';
+  startWorker('cpu');
+}
+
+function onWorkerMessage({ data }) {
   events.push({ type: data.type, at: performance.now() });
   if (events.length > 200) events.shift();
   switch (data.type) {
@@ -107,6 +135,7 @@ worker.onmessage = ({ data }) => {
       break;
     case 'ready':
       ready = true;
+      backend = data.backend;
       if (data.backend === 'webgpu' && 'transferControlToOffscreen' in HTMLCanvasElement.prototype) {
         const offscreen = $('canvas').transferControlToOffscreen();
         worker.postMessage({ type: 'viewer', canvas: offscreen }, [offscreen]);
@@ -116,23 +145,31 @@ worker.onmessage = ({ data }) => {
       }
       document.body.dataset.backend = data.backend;
       document.body.dataset.weightsFromCache = String(data.fromCache);
+      document.body.dataset.backendReason = fallbackReason ?? data.reason;
       $('backend').textContent =
-        data.backend === 'webgpu'
-          ? 'Running on your GPU (WebGPU).'
-          : 'No WebGPU adapter: running on the CPU inside WebAssembly (slower).';
+        (data.backend === 'webgpu' ? 'Running on your GPU (WebGPU)' : 'Running on the CPU inside WebAssembly') +
+        (fallbackReason ? `: ${fallbackReason}.` : data.asked === 'auto' ? `: ${data.reason}.` : ' (chosen in the Backend menu).');
+      if (!fallbackReason) $('backend-choice').value = data.asked;
       $('vertices').max = data.maxVertices;
       setRunning(false);
       break;
-    case 'points':
+    case 'points': {
       points = data.points;
       result = null;
       $('downloads').hidden = true;
-      $('input-info').textContent = `${data.name}: ${points.length / 3} points`;
+      const n = points.length / 3;
+      const count = (k) => k.toLocaleString('en');
+      $('input-info').textContent = data.fromMesh
+        ? `${data.name}: a mesh of ${count(data.sourcePoints)} vertices, ${count(n)} points sampled from its surface`
+        : n < data.sourcePoints
+          ? `${data.name}: ${count(data.sourcePoints)} points, conditioning on an even subsample of ${count(n)}`
+          : `${data.name}: ${count(n)} points`;
       scene = { points, mesh: null };
       viewer?.setMesh(null);
       viewer?.setPoints(points);
       setRunning(false);
       break;
+    }
     case 'step':
       $('step-progress').max = data.n;
       $('step-progress').value = data.i;
@@ -155,11 +192,23 @@ worker.onmessage = ({ data }) => {
       useViewer(new Viewer2D(replaceCanvas($('canvas'))), $('canvas'));
       break;
     case 'error':
+      if (data.during === 'generate' && backend === 'webgpu' && !/cancelled|points|faces|vertices|options/.test(data.message)) {
+        // The first line: wgpu appends its error chain and a backtrace note.
+        const reason = data.message.split('\n')[0];
+        showError(`The GPU failed during the generation (${reason}). The page switched to the CPU path: generate again.`);
+        fallBackToCpu(reason);
+        break;
+      }
       showError(data.during === 'load' ? `Could not load the model: ${data.message}` : data.message);
       setRunning(false);
       break;
+    case 'memory':
+    case 'device-destroyed':
+      // For tests driving the page.
+      window.__meshflowLast = data;
+      break;
   }
-};
+}
 
 async function readFile(name, bytes) {
   clearError();
@@ -182,11 +231,24 @@ drop.addEventListener('drop', async (e) => {
   const f = e.dataTransfer.files[0];
   if (f) readFile(f.name, await f.arrayBuffer());
 });
+// The bundled examples (web/examples/: licenses and sources in SOURCES.md there).
+const examples = fetch('examples/examples.json').then((r) => (r.ok ? r.json() : []));
+examples.then((list) => {
+  for (const ex of list) {
+    const option = document.createElement('option');
+    option.value = ex.file;
+    option.textContent = `${ex.label}, ${ex.kind}`;
+    $('example').append(option);
+  }
+});
 $('example').addEventListener('change', async (e) => {
+  $('example-source').textContent = '';
   if (!e.target.value) return;
-  const response = await fetch(e.target.value);
+  const ex = (await examples).find((x) => x.file === e.target.value);
+  $('example-source').textContent = `${ex.source}; ${ex.license}.`;
+  const response = await fetch(`examples/${ex.file}`);
   if (!response.ok) return showError(`Could not fetch the example (${response.status}).`);
-  readFile(e.target.value.split('/').pop(), await response.arrayBuffer());
+  readFile(ex.file, await response.arrayBuffer());
 });
 
 $('generate').addEventListener('click', () => {
@@ -225,4 +287,21 @@ function download(bytes, name, type) {
 $('download-glb').addEventListener('click', () => download(result.glb, 'meshflow.glb', 'model/gltf-binary'));
 $('download-obj').addEventListener('click', () => download(result.obj, 'meshflow.obj', 'text/plain'));
 
-worker.postMessage({ type: 'load', backend: params.get('backend') ?? 'auto' });
+// Another backend reloads the page with it in the address (so a bookmark keeps it).
+$('backend-choice').addEventListener('change', (e) => {
+  const url = new URL(location.href);
+  if (e.target.value === 'auto') url.searchParams.delete('backend');
+  else url.searchParams.set('backend', e.target.value);
+  location.assign(url);
+});
+
+$('show-points').addEventListener('change', (e) => viewer?.setPointsOverlay(e.target.checked));
+
+$('clear-cache').addEventListener('click', async () => {
+  await clearWeightsCache();
+  $('weights-text').textContent = 'cache cleared: the next visit downloads the weights again';
+});
+
+startWorker(params.get('backend') ?? 'auto');
+// For tests and diagnostics: post a message to the model's worker.
+window.__meshflowPost = (message) => worker.postMessage(message);

@@ -1,12 +1,13 @@
 // A small software viewer on a 2D canvas, for the CPU backend (the WebGPU one draws with the
 // wgpu viewer in the worker): flat-shaded triangles (painter's order), the wireframe over them
-// and the input points. Camera operations come from controls.js.
+// and the input points (over the mesh too, unless turned off). Camera operations come from controls.js.
 export class Viewer2D {
   constructor(canvas) {
     this.canvas = canvas;
     this.ctx = canvas.getContext('2d');
     this.mesh = null;
     this.points = null;
+    this.pointsOverlay = true;
     this.yaw = 0.7;
     this.pitch = 0.45;
     this.scale = 1;
@@ -17,6 +18,12 @@ export class Viewer2D {
   setPoints(points) {
     this.points = points;
     this.fit();
+  }
+
+  /** Whether the input points are drawn over the mesh too (they always show without one). */
+  setPointsOverlay(on) {
+    this.pointsOverlay = on;
+    this.draw();
   }
 
   setMesh(positions, indices) {
@@ -77,14 +84,19 @@ export class Viewer2D {
     const { ctx, canvas } = this;
     ctx.fillStyle = '#ffffff';
     ctx.fillRect(0, 0, canvas.width, canvas.height);
-    if (this.points && !this.mesh) {
-      ctx.fillStyle = '#4a6fa5';
+    if (this.mesh) this.#drawMesh();
+    if (this.points && (!this.mesh || this.pointsOverlay)) {
+      // Over a mesh the points are orange, so the fit to them reads at a glance.
+      ctx.fillStyle = this.mesh ? '#e0701a' : '#4a6fa5';
       for (let i = 0; i < this.points.length; i += 3) {
         const [x, y] = this.#project(this.points[i], this.points[i + 1], this.points[i + 2]);
         ctx.fillRect(x - 1, y - 1, 2, 2);
       }
     }
-    if (!this.mesh) return;
+  }
+
+  #drawMesh() {
+    const { ctx } = this;
     const p = this.mesh.positions;
     const idx = this.mesh.indices;
     const screen = [];

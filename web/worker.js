@@ -1,5 +1,5 @@
 // Runs the model off the main thread so the page stays responsive during a generation.
-import { loadModel, readPoints } from './lib/index.js';
+import { loadModel, readInput, wasmMemoryBytes } from './lib/index.js';
 
 let model = null;
 let abort = null;
@@ -13,16 +13,24 @@ self.onmessage = async ({ data }) => {
   try {
     if (data.type === 'load') {
       model = await loadModel({
-        weights: new URL('../weights/', self.location.href),
+        // Half-size weights unless the page asks for the f32 originals (?weights=f32).
+        weights: new URL(data.weights === 'f32' ? '../weights/' : '../weights/f16/', self.location.href),
         backend: data.backend ?? 'auto',
         onProgress: (got, total) => post({ type: 'weights', got, total }),
       });
-      post({ type: 'ready', backend: model.backend, fromCache: model.weightsFromCache, maxVertices: model.maxVertices });
+      post({
+        type: 'ready',
+        backend: model.backend,
+        reason: model.backendReport.reason,
+        asked: model.backendReport.asked,
+        fromCache: model.weightsFromCache,
+        maxVertices: model.maxVertices,
+      });
     } else if (data.type === 'read') {
-      const points = await readPoints(new Uint8Array(data.bytes), data.name);
+      const { points, sourcePoints, fromMesh } = await readInput(new Uint8Array(data.bytes), data.name);
       scene = { points: points.slice(), mesh: null };
       viewer?.setPoints(scene.points);
-      post({ type: 'points', name: data.name, points }, [points.buffer]);
+      post({ type: 'points', name: data.name, points, sourcePoints, fromMesh }, [points.buffer]);
     } else if (data.type === 'generate') {
       abort = new AbortController();
       const mesh = await model.generate(new Float32Array(data.points), {
@@ -53,6 +61,13 @@ self.onmessage = async ({ data }) => {
       }
     } else if (data.type === 'view') {
       viewer?.[data.op](...data.args);
+    } else if (data.type === 'memory') {
+      // For tests: the wasm memory and (where the browser has it) this worker's JS heap.
+      post({ type: 'memory', wasm: await wasmMemoryBytes(), heap: self.performance?.memory?.usedJSHeapSize ?? null });
+    } else if (data.type === 'destroy-device') {
+      // For tests: a GPU reset, as the page would meet it.
+      model.destroyDevice();
+      post({ type: 'device-destroyed' });
     } else if (data.type === 'cancel') {
       abort?.abort();
     }

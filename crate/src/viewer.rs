@@ -33,6 +33,8 @@ pub struct Viewer {
     mesh: Option<(wgpu::Buffer, u32)>,
     mesh_positions: Vec<f32>,
     points: Option<(wgpu::Buffer, u32)>,
+    /// Draw the points over the mesh too (they always show while there is no mesh).
+    points_over_mesh: bool,
     point_positions: Vec<f32>,
     camera: OrbitCamera,
 }
@@ -155,6 +157,7 @@ impl Viewer {
             mesh: None,
             mesh_positions: Vec::new(),
             points: None,
+            points_over_mesh: true,
             point_positions: Vec::new(),
             camera: OrbitCamera::default(),
         })
@@ -217,6 +220,14 @@ impl Viewer {
         self.mesh = None;
         self.mesh_positions.clear();
         self.fit_scene();
+        self.render()
+    }
+
+    /// Whether the input points are drawn over the mesh as well (default true), so the fit
+    /// to them can be judged; without a mesh they always show.
+    #[wasm_bindgen(js_name = setPointsOverlay)]
+    pub fn set_points_overlay(&mut self, on: bool) -> Result<(), JsError> {
+        self.points_over_mesh = on;
         self.render()
     }
 
@@ -296,8 +307,12 @@ impl Viewer {
                 pass.set_pipeline(&self.mesh_pipeline);
                 pass.set_vertex_buffer(0, buffer.slice(..));
                 pass.draw(0..*count, 0..1);
-            } else if let Some((buffer, count)) = &self.points {
-                // The points until there is a mesh, as the 2D viewer does.
+            }
+            if let Some((buffer, count)) = &self.points
+                && (self.mesh.is_none() || self.points_over_mesh)
+            {
+                // Depth-tested: points behind the mesh stay hidden (the 2D viewer, without a
+                // depth buffer, draws them all on top).
                 pass.set_pipeline(&self.point_pipeline);
                 pass.set_vertex_buffer(0, buffer.slice(..));
                 pass.draw(0..6, 0..*count);

@@ -115,6 +115,15 @@ impl MeshFlow {
         Viewer::new(setup, canvas).map_err(js_error)
     }
 
+    /// Destroys the WebGPU device, as a GPU reset or driver crash would: every later use
+    /// fails. For testing the page's fallback to the CPU path; nothing on the CPU backend.
+    #[wasm_bindgen(js_name = destroyDevice)]
+    pub fn destroy_device(&self) {
+        if let Some(setup) = &self.setup {
+            setup.device.destroy();
+        }
+    }
+
     /// `"webgpu"` or `"cpu"`.
     #[wasm_bindgen(getter)]
     pub fn backend(&self) -> String {
@@ -309,11 +318,42 @@ impl GeneratedMesh {
     }
 }
 
+/// The points [`read_input`] found in a file, and what they stand for.
+#[wasm_bindgen]
+pub struct InputPoints {
+    points: Vec<f32>,
+    source_points: usize,
+    from_mesh: bool,
+}
+
+#[wasm_bindgen]
+impl InputPoints {
+    /// x, y, z of the points to condition on.
+    #[wasm_bindgen(getter)]
+    pub fn points(&self) -> Vec<f32> {
+        self.points.clone()
+    }
+
+    /// The file's own point (vertex) count: more than [`Self::points`] holds when a large
+    /// point cloud was subsampled.
+    #[wasm_bindgen(getter, js_name = sourcePoints)]
+    pub fn source_points(&self) -> usize {
+        self.source_points
+    }
+
+    /// Whether the file was a mesh (its surface sampled) rather than a point cloud.
+    #[wasm_bindgen(getter, js_name = fromMesh)]
+    pub fn from_mesh(&self) -> bool {
+        self.from_mesh
+    }
+}
+
 /// Reads a point cloud or mesh file (PLY, OBJ, STL, GLB/glTF, XYZ and the CLI's other
-/// formats; the format comes from `file_name`'s extension, else from the bytes) and returns
-/// the points to condition on: a mesh's surface samples, or a point cloud's points.
-#[wasm_bindgen(js_name = readPoints)]
-pub fn read_points(bytes: &[u8], file_name: &str) -> Result<Vec<f32>, JsError> {
+/// formats; the format comes from `file_name`'s extension, else from the bytes) into the
+/// points to condition on: a mesh's surface samples, or a point cloud's points (an even random
+/// subsample of [`crate::generate::CONDITION_POINTS`] when there are more, as the CLI does).
+#[wasm_bindgen(js_name = readInput)]
+pub fn read_input(bytes: &[u8], file_name: &str) -> Result<InputPoints, JsError> {
     let format = Format::from_path(std::path::Path::new(file_name))
         .or_else(|| Format::sniff(bytes))
         .ok_or_else(|| {
@@ -324,5 +364,9 @@ pub fn read_points(bytes: &[u8], file_name: &str) -> Result<Vec<f32>, JsError> {
     let mesh = read_bytes(bytes, format, &Limits::default())
         .map_err(|e| js_error(format!("{file_name}: {e}")))?;
     let points = input_points(&mesh, 0).map_err(|e| js_error(format!("{file_name}: {e}")))?;
-    Ok(points.iter().flat_map(|p| p.to_array()).collect())
+    Ok(InputPoints {
+        points: points.iter().flat_map(|p| p.to_array()).collect(),
+        source_points: mesh.positions.len(),
+        from_mesh: !mesh.faces.is_empty(),
+    })
 }

@@ -95,10 +95,16 @@ await context.addInitScript(LONGTASK_SCRIPT);
 const page = await context.newPage();
 const weightRequests = [];
 context.on('request', (r) => r.method() === 'GET' && r.url().endsWith('.safetensors') && weightRequests.push(r.url()));
-page.on('console', (m) => m.type() === 'error' && console.log(`  console: ${m.text()}`));
+const consoleErrors = [];
+page.on('console', (m) => {
+  if (m.type() !== 'error') return;
+  consoleErrors.push(m.text());
+  console.log(`  console: ${m.text()}`);
+});
+page.on('pageerror', (e) => consoleErrors.push(e.message));
 
-await check('the page loads the model on WebGPU and says so', async () => {
-  await page.goto(`${base}/web/`);
+await check('the page loads the model on WebGPU when asked and says so', async () => {
+  await page.goto(`${base}/web/?backend=webgpu`);
   await page.screenshot({ path: join(out, 'before.png') });
   await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
   const backend = await page.evaluate(() => document.body.dataset.backend);
@@ -108,6 +114,8 @@ await check('the page loads the model on WebGPU and says so', async () => {
   await page.waitForFunction(() => document.body.dataset.viewer);
   assert((await page.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'not the wgpu viewer');
   assert(weightRequests.length === 2, `weight downloads: ${weightRequests.length}`);
+  // The half-size weights by default.
+  assert(weightRequests.every((u) => u.includes('/weights/f16/')), `not the f16 weights: ${weightRequests}`);
 });
 
 let timing = null;
@@ -162,10 +170,83 @@ await check('a reload takes the weights from the cache', async () => {
   assert((await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'true', 'not from cache');
 });
 
+await check('the page clears the cached weights, and the next load downloads them', async () => {
+  await page.click('#clear-cache');
+  await page.waitForFunction(() => document.getElementById('weights-text').textContent.includes('cleared'));
+  weightRequests.length = 0;
+  await page.reload();
+  await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+  assert(weightRequests.length === 2, `weight downloads after clearing: ${weightRequests.length}`);
+  assert((await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'false', 'still from cache');
+});
+
+await check('a normal visit logs no console error', async () => {
+  assert(consoleErrors.length === 0, `console errors: ${JSON.stringify(consoleErrors)}`);
+});
+
+await check("'auto' picks the CPU on this software adapter and says why", async () => {
+  await page.goto(`${base}/web/`);
+  await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+  const { backend, reason } = await page.evaluate(() => ({ ...document.body.dataset, reason: document.body.dataset.backendReason }));
+  assert(backend === 'cpu', `auto chose ${backend} (${reason})`);
+  // SwiftShader says it is a fallback adapter; either way the reason names it.
+  assert(/(fallback adapter|software renderer) \(google swiftshader/.test(reason), `reason: ${reason}`);
+  const shown = await page.textContent('#backend');
+  assert(shown.includes('CPU') && shown.includes('swiftshader'), `shown: ${shown}`);
+  assert((await page.inputValue('#backend-choice')) === 'auto', 'the Backend menu does not show auto');
+});
+
+await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adapter', async () => {
+  const choices = await page.evaluate(async () => {
+    const { chooseBackend } = await import('./lib/index.js');
+    const fake = (info) => ({ requestAdapter: async () => ({ info }) });
+    const real = await navigator.gpu.requestAdapter();
+    // The real SwiftShader adapter with its name hidden: only the timed probe can tell.
+    const anonymous = { requestAdapter: async () => ({ info: {}, requestDevice: (d) => real.requestDevice(d) }) };
+    return {
+      nvidia: await chooseBackend({ gpu: fake({ vendor: 'nvidia', architecture: 'ampere' }) }),
+      fallback: await chooseBackend({ gpu: fake({ vendor: 'x', isFallbackAdapter: true }) }),
+      fast: await chooseBackend({ gpu: fake({ vendor: 'unknown' }), probe: async () => 3 }),
+      probed: await chooseBackend({ gpu: anonymous }),
+      none: await chooseBackend({ gpu: { requestAdapter: async () => null } }),
+      noGpu: await chooseBackend({ gpu: null }),
+    };
+  });
+  const c = choices;
+  assert(c.nvidia.backend === 'webgpu' && /GPU adapter \(nvidia ampere\)/.test(c.nvidia.reason), JSON.stringify(c.nvidia));
+  assert(c.fallback.backend === 'cpu' && /fallback/.test(c.fallback.reason), JSON.stringify(c.fallback));
+  assert(c.fast.backend === 'webgpu' && /is fast: 3 ms/.test(c.fast.reason), JSON.stringify(c.fast));
+  assert(c.probed.backend === 'cpu' && /is slow: \d+ ms/.test(c.probed.reason), JSON.stringify(c.probed));
+  assert(c.none.backend === 'cpu' && c.none.reason === 'no WebGPU adapter', JSON.stringify(c.none));
+  assert(c.noGpu.backend === 'cpu' && /no WebGPU/.test(c.noGpu.reason), JSON.stringify(c.noGpu));
+  console.log(`  probe on SwiftShader: ${c.probed.reason}`);
+});
+
 await check('the page fits a phone-sized viewport', async () => {
   await page.setViewportSize({ width: 390, height: 844 });
   const width = await page.evaluate(() => document.documentElement.scrollWidth);
   assert(width <= 390, `horizontal overflow: ${width}px`);
+  await page.setViewportSize({ width: 1100, height: 800 });
+});
+
+await check('a lost WebGPU device falls back to the CPU with a message, and the next generation works', async () => {
+  await page.goto(`${base}/web/?backend=webgpu`);
+  await page.waitForFunction(() => document.body.dataset.backend === 'webgpu', null, { timeout: 120_000 });
+  await page.setInputFiles('#file', FIXTURE);
+  await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+  await page.evaluate(() => window.__meshflowPost({ type: 'destroy-device' }));
+  await page.waitForFunction(() => window.__meshflowLast?.type === 'device-destroyed');
+  await page.fill('#steps', '1');
+  await page.click('#generate');
+  await page.waitForSelector('#error:not([hidden])', { timeout: GENERATION_TIMEOUT });
+  const message = await page.textContent('#error');
+  assert(/GPU failed[\s\S]*switched to the CPU/.test(message), `error text: ${message}`);
+  await page.waitForFunction(() => document.body.dataset.backend === 'cpu', null, { timeout: 120_000 });
+  const shown = await page.textContent('#backend');
+  assert(/CPU.*GPU failed/.test(shown), `backend text: ${shown}`);
+  await generate(page, { steps: 1 });
+  const faces = await page.textContent('#stats tr[data-key="vertices / faces"] td:last-child');
+  assert(Number(faces.split('/')[1]) > 0, `faces after the fallback: ${faces}`);
 });
 await browser.close();
 
@@ -182,7 +263,143 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   const ink = await canvasInkPixels(p);
   assert(ink > 500, `the 2D viewer drew only ${ink} pixels of the input points`);
   await generate(p, { steps: 1 });
+  // The input points are drawn over the mesh until the toggle turns them off.
+  const withPoints = await canvasInkPixels(p);
+  await p.uncheck('#show-points');
+  const without = await canvasInkPixels(p);
+  assert(without < withPoints, `hiding the points did not change the canvas (${withPoints} -> ${without} pixels)`);
+
+  // Every bundled example loads, with its source and license shown.
+  const files = await p.$$eval('#example option', (os) => os.map((o) => o.value).filter(Boolean));
+  assert(files.length >= 5, `${files.length} examples`);
+  for (const file of files) {
+    await p.selectOption('#example', file);
+    await p.waitForFunction((f) => document.getElementById('input-info').textContent.startsWith(`${f}:`), file);
+    const source = await p.textContent('#example-source');
+    assert(/CC-BY|BSD|MIT|CC0|Apache/.test(source), `${file}: no license shown (${source})`);
+  }
+  // One of them generates (the one with normals, read as a point cloud).
+  await p.selectOption('#example', files.find((f) => f.includes('normals')) ?? files[0]);
+  await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('normals'));
+  await generate(p, { steps: 1 });
   await cpu.close();
+});
+
+// A binary little-endian PLY of `n` points on a sphere of radius 10.
+function sphereCloud(n) {
+  const header = `ply\nformat binary_little_endian 1.0\nelement vertex ${n}\nproperty float x\nproperty float y\nproperty float z\nend_header\n`;
+  const body = Buffer.alloc(n * 12);
+  for (let i = 0; i < n; i++) {
+    const z = 1 - (2 * (i + 0.5)) / n;
+    const r = Math.sqrt(1 - z * z);
+    const a = i * 2.399963229728653;
+    body.writeFloatLE(10 * r * Math.cos(a), i * 12);
+    body.writeFloatLE(10 * r * Math.sin(a), i * 12 + 4);
+    body.writeFloatLE(10 * z, i * 12 + 8);
+  }
+  return Buffer.concat([Buffer.from(header), body]);
+}
+
+// A GLB whose only mesh primitive has no POSITION attribute.
+function glbWithoutPositions() {
+  let json = JSON.stringify({ asset: { version: '2.0' }, scenes: [{ nodes: [0] }], nodes: [{ mesh: 0 }], meshes: [{ primitives: [{ attributes: {} }] }] });
+  json += ' '.repeat((4 - (json.length % 4)) % 4);
+  const out = Buffer.alloc(20 + json.length);
+  out.writeUInt32LE(0x46546c67, 0);
+  out.writeUInt32LE(2, 4);
+  out.writeUInt32LE(out.length, 8);
+  out.writeUInt32LE(json.length, 12);
+  out.writeUInt32LE(0x4e4f534a, 16);
+  out.write(json, 20);
+  return out;
+}
+
+await check('bad files show a clear error and leave the page usable; 2 million points are subsampled', async () => {
+  const b = await launch(false);
+  const ctx = await b.newContext();
+  await ctx.addInitScript(LONGTASK_SCRIPT);
+  const p = await ctx.newPage();
+  const errors = [];
+  p.on('pageerror', (e) => errors.push(e.message));
+  await p.goto(`${base}/web/`);
+  await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+  const bad = [
+    ['truncated.ply', Buffer.from('ply\nformat binary_little_endian 1.0\nelement vertex 1000\nproperty float x\nproperty float y\nproperty float z\nend_header\n\0\0\0\0\0\0')],
+    ['renamed.obj', Buffer.from(Array.from({ length: 4096 }, (_, i) => (i * 7919) % 256))],
+    ['empty.ply', Buffer.alloc(0)],
+    ['no_positions.glb', glbWithoutPositions()],
+  ];
+  for (const [name, buffer] of bad) {
+    await p.setInputFiles('#file', { name, mimeType: 'application/octet-stream', buffer });
+    await p.waitForFunction((n) => !document.getElementById('error').hidden && document.getElementById('error').textContent.includes(n), name);
+    console.log(`  ${name}: ${await p.textContent('#error')}`);
+  }
+  // Two million points: read in the worker, subsampled with a message, and the page answers
+  // meanwhile (not a frozen tab).
+  // (Playwright's own transfer of the 24 MB file blocks the page while it runs; what counts is
+  // the page's work once it has the file.)
+  await p.setInputFiles('#file', { name: 'dense.ply', mimeType: 'application/octet-stream', buffer: sphereCloud(2_000_000) });
+  const t0 = Date.now();
+  const since = await p.evaluate(() => performance.now());
+  await p.waitForFunction(() => document.getElementById('input-info').textContent.startsWith('dense.ply'), null, { timeout: 120_000 });
+  const info = await p.textContent('#input-info');
+  assert(/2,000,000 points, conditioning on an even subsample of 4,096/.test(info), `input info: ${info}`);
+  console.log(`  dense.ply read in ${((Date.now() - t0) / 1000).toFixed(1)} s: ${info}`);
+  const longest = await p.evaluate(
+    (t) => Math.max(0, ...window.__longTasks.filter((x) => x.start + x.duration > t).map((x) => x.duration)),
+    since,
+  );
+  assert(longest < 1000, `the main thread was blocked for ${longest} ms`);
+  await generate(p, { steps: 1 });
+  assert(errors.length === 0, `page errors: ${errors}`);
+  await b.close();
+});
+
+await check('100 generations in one page: wasm memory and JS heaps stop growing after the first ten', async () => {
+  const b = await chromium.launch({
+    executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+    headless: true,
+    args: ['--no-sandbox', '--js-flags=--expose-gc', '--enable-precise-memory-info'],
+  });
+  const p = await b.newPage();
+  await p.goto(`${base}/web/`);
+  await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+  await p.setInputFiles('#file', { name: 'small.ply', mimeType: 'application/octet-stream', buffer: sphereCloud(600) });
+  await p.waitForFunction(() => document.getElementById('input-info').textContent.startsWith('small.ply'));
+  const worker = p.workers()[0];
+  const measure = async () => {
+    await p.evaluate(() => window.__meshflowPost({ type: 'memory' }));
+    await p.waitForFunction(() => window.__meshflowLast?.type === 'memory');
+    const wasm = await p.evaluate(() => { const m = window.__meshflowLast.wasm; window.__meshflowLast = null; return m; });
+    const page = await p.evaluate(() => { gc(); return performance.memory.usedJSHeapSize; });
+    const inWorker = await worker.evaluate(() => { gc(); return self.performance?.memory?.usedJSHeapSize ?? null; });
+    return { wasm, page, worker: inWorker };
+  };
+  await p.fill('#vertices', '64');
+  await p.fill('#steps', '1');
+  // Generations driven from inside the page, so the test harness adds nothing to its heap.
+  const run = (n) =>
+    p.evaluate(async (count) => {
+      const until = (done) => new Promise((ok) => { const poll = () => (done() ? ok() : setTimeout(poll, 10)); poll(); });
+      for (let i = 0; i < count; i++) {
+        const before = Number(document.body.dataset.generated ?? 0);
+        document.getElementById('generate').click();
+        await until(() => Number(document.body.dataset.generated ?? 0) > before || !document.getElementById('error').hidden);
+        if (!document.getElementById('error').hidden) throw new Error(document.getElementById('error').textContent);
+      }
+    }, n);
+  const sizes = [];
+  await run(10);
+  sizes.push(await measure());
+  await run(90);
+  sizes.push(await measure());
+  await b.close();
+  const [at10, at100] = sizes;
+  console.log(`  after 10: ${JSON.stringify(at10)}; after 100: ${JSON.stringify(at100)}`);
+  for (const k of ['wasm', 'page', 'worker']) {
+    if (at10[k] === null) continue;
+    assert(at100[k] <= at10[k] * 1.1, `${k} memory grew from ${at10[k]} to ${at100[k]} bytes`);
+  }
 });
 
 // The vertex positions and triangle indices of a GLB's first primitive.
@@ -211,6 +428,17 @@ const NATIVE_CLI = join(
 );
 const SAME_AS_NATIVE = { steps: 4, vertices: 160, seed: 7 };
 let wasmMeshes = null;
+
+await check('the npm package is publishable: `npm publish --dry-run` passes with the f16 weights', async () => {
+  const out = execFileSync('npm', ['publish', '--dry-run'], { cwd: ROOT, stdio: 'pipe', encoding: 'utf8' });
+  const log = execFileSync('npm', ['pack', '--dry-run', '--json'], { cwd: ROOT, encoding: 'utf8' });
+  const files = JSON.parse(log)[0].files.map((f) => f.path);
+  for (const f of ['web/pkg/meshflow_bg.wasm', 'weights/f16/vae.safetensors', 'weights/f16/dit.safetensors', 'web/lib/index.d.ts']) {
+    assert(files.includes(f), `${f} is not in the package: ${files}`);
+  }
+  assert(!files.includes('weights/dit.safetensors'), 'the f32 weights doubled the package');
+  void out;
+});
 
 await check('the npm package imports and generates the way a user would', async () => {
   // Pack the package, unpack it into node_modules of a plain ESM page, serve that.
@@ -315,8 +543,10 @@ await check('wasm and native give the same mesh for the same seed and input', as
   for (const [wasmBackend, nativeBackend] of [['webgpu', 'wgpu'], ['cpu', 'cpu']]) {
     const file = join(out, `native-${nativeBackend}.glb`);
     const { steps, vertices, seed } = SAME_AS_NATIVE;
+    // The package loads the half-size weights by default; the native CLI reads them too.
     execFileSync(NATIVE_CLI, ['generate', FIXTURE, '-o', file, '--steps', String(steps), '--vertices',
-      String(vertices), '--seed', String(seed), '--backend', nativeBackend], { cwd: ROOT, stdio: 'pipe' });
+      String(vertices), '--seed', String(seed), '--backend', nativeBackend, '--weights', 'weights/f16'],
+    { cwd: ROOT, stdio: 'pipe' });
     const native = glbMesh(readFileSync(file));
     const wasm = wasmMeshes[wasmBackend];
     assert(

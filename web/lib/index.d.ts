@@ -77,8 +77,10 @@ export class GeneratedMesh {
 export interface Viewer {
   /** x, y, z per vertex and three indices per face; fits the view. */
   setMesh(positions: Float32Array, indices: Uint32Array): void;
-  /** The input points, shown until there is a mesh (clears the mesh). */
+  /** The input points (clears the mesh); shown over the next mesh unless turned off. */
   setPoints(points: Float32Array): void;
+  /** Whether the points are drawn over the mesh too (default true). */
+  setPointsOverlay(on: boolean): void;
   /** Turns the view, radians. */
   orbit(dx: number, dy: number): void;
   /** Pans, canvas pixels. */
@@ -90,18 +92,45 @@ export interface Viewer {
   free(): void;
 }
 
+/** Which backend runs and why. */
+export interface BackendChoice {
+  backend: 'webgpu' | 'cpu';
+  /** A sentence for the user, e.g. "the WebGPU adapter is a software renderer (google swiftshader); the CPU path is faster". */
+  reason: string;
+  /** The WebGPU adapter's info, when there was one. */
+  adapter: { vendor: string; architecture: string; description: string } | null;
+}
+
+export interface BackendReport {
+  /** The `backend` option given to `loadModel`. */
+  asked: 'auto' | 'webgpu' | 'cpu';
+  reason: string;
+  adapter: BackendChoice['adapter'];
+}
+
 export class Model {
   readonly backend: 'webgpu' | 'cpu';
+  /** Which backend runs and why. */
+  readonly backendReport: BackendReport;
   readonly maxVertices: number;
   weightsFromCache: boolean;
   generate(points: Float32Array, options?: GenerateOptions): Promise<GeneratedMesh>;
+  /** Destroys the WebGPU device as a GPU reset would (for testing fallbacks). */
+  destroyDevice(): void;
   /** A viewer on this model's WebGPU device; throws on the CPU backend. */
   createViewer(canvas: OffscreenCanvas): Viewer;
 }
 
 export interface LoadOptions {
-  /** Folder URL with vae.* and dit.* (default: the package's weights/). */
+  /**
+   * Folder URL with vae.* and dit.* (default: the package's weights/f16/, half-size; the f32
+   * files in weights/ load as well).
+   */
   weights?: string | URL;
+  /**
+   * `'auto'` (default): the faster one here (see `chooseBackend`); `'webgpu'` or `'cpu'`
+   * to override.
+   */
   backend?: 'auto' | 'webgpu' | 'cpu';
   onProgress?: (bytes: number, total: number) => void;
   /** Keep the weights in Cache Storage (default true). */
@@ -117,4 +146,33 @@ export function fetchWeights(
   options?: { onProgress?: (bytes: number, total: number) => void; useCache?: boolean },
 ): Promise<{ files: Uint8Array[]; fromCache: boolean }>;
 export function clearWeightsCache(): Promise<void>;
+/** The points to condition on, read from a file. */
+export interface InputPoints {
+  /** x, y, z per point. */
+  points: Float32Array;
+  /** The file's own point count (more than `points` holds when a large cloud was subsampled). */
+  sourcePoints: number;
+  /** Whether the file was a mesh, its surface sampled. */
+  fromMesh: boolean;
+}
+/**
+ * Reads a point cloud or mesh file. A mesh is surface-sampled; a cloud of more than 4,096
+ * points is evenly subsampled to 4,096. Rejects with an Error naming the problem.
+ */
+export function readInput(bytes: Uint8Array, fileName: string): Promise<InputPoints>;
+/** `readInput(...).points`. */
 export function readPoints(bytes: Uint8Array, fileName: string): Promise<Float32Array>;
+/** Bytes of the wasm module's memory (it never shrinks). */
+export function wasmMemoryBytes(): Promise<number>;
+/**
+ * What `backend: 'auto'` picks: the CPU without WebGPU, without an adapter, or on a fallback
+ * or software adapter (SwiftShader, llvmpipe, lavapipe, WARP); WebGPU on a known GPU vendor;
+ * otherwise a short timed probe (`probeAdapter`) decides. `gpu` and `probe` can be replaced
+ * (tests).
+ */
+export function chooseBackend(options?: {
+  gpu?: { requestAdapter(options?: unknown): Promise<unknown> } | null;
+  probe?: (adapter: unknown) => Promise<number>;
+}): Promise<BackendChoice>;
+/** Milliseconds for one 256^3 matrix-product dispatch on `adapter` (after a warm-up). */
+export function probeAdapter(adapter: unknown): Promise<number>;

@@ -1,12 +1,13 @@
 // MeshFlow in the browser: load the shipped weights, generate a mesh from a point cloud on
-// WebGPU (or the CPU inside wasm when there is no adapter), export GLB / OBJ.
+// WebGPU (or the CPU inside wasm where that is faster: no adapter, or a software one), export
+// GLB / OBJ.
 //
 //   import { loadModel, readPoints } from 'meshflow';
 //   const model = await loadModel({ onProgress: (got, total) => {} });
 //   const points = await readPoints(bytes, 'scan.ply');
 //   const mesh = await model.generate(points, { steps: 28, onStep: (i, n) => {} });
 //   const glb = mesh.toGlb();
-import init, { MeshFlow, readPoints as readPointsWasm } from '../pkg/meshflow.js';
+import init, { MeshFlow, readInput as readInputWasm } from '../pkg/meshflow.js';
 
 const FILES = ['vae.manifest.json', 'vae.safetensors', 'dit.manifest.json', 'dit.safetensors'];
 const CACHE = 'meshflow-weights-v1';
@@ -74,6 +75,100 @@ export async function clearWeightsCache() {
   if (globalThis.caches) await caches.delete(CACHE);
 }
 
+// Adapters that are software renderers: on them the CPU path inside wasm is far faster (a
+// generation took 166 s on SwiftShader against 6.5 s on the CPU path, BENCHMARKS.md).
+const SOFTWARE_ADAPTER = /swiftshader|llvmpipe|lavapipe|softpipe|software|basic render|\bwarp\b/i;
+// Vendors whose adapters are real GPUs.
+const GPU_VENDOR = /nvidia|\bamd\b|\bati\b|intel|apple|qualcomm|\barm\b|imagination|broadcom|samsung|mesa|microsoft|vivante/i;
+// A 256^3 matrix product (16.8 M multiply-adds) after one warm-up dispatch: a few
+// milliseconds on a GPU, about 150 ms on SwiftShader.
+const PROBE_SIZE = 256;
+const PROBE_LIMIT_MS = 40;
+
+/** Times one dispatch of a PROBE_SIZE^3 matrix product on `adapter`, in milliseconds. */
+export async function probeAdapter(adapter) {
+  const device = await adapter.requestDevice();
+  try {
+    const n = PROBE_SIZE;
+    const code = `
+      @group(0) @binding(0) var<storage, read> a: array<f32>;
+      @group(0) @binding(1) var<storage, read_write> c: array<f32>;
+      @compute @workgroup_size(8, 8)
+      fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+        var acc = 0.0;
+        for (var k = 0u; k < ${n}u; k++) { acc += a[id.y * ${n}u + k] * a[k * ${n}u + id.x]; }
+        c[id.y * ${n}u + id.x] = acc;
+      }`;
+    const bytes = n * n * 4;
+    const a = device.createBuffer({ size: bytes, usage: GPUBufferUsage.STORAGE });
+    const c = device.createBuffer({ size: bytes, usage: GPUBufferUsage.STORAGE });
+    const pipeline = await device.createComputePipelineAsync({
+      layout: 'auto',
+      compute: { module: device.createShaderModule({ code }), entryPoint: 'main' },
+    });
+    const bindGroup = device.createBindGroup({
+      layout: pipeline.getBindGroupLayout(0),
+      entries: [{ binding: 0, resource: { buffer: a } }, { binding: 1, resource: { buffer: c } }],
+    });
+    const run = async () => {
+      const encoder = device.createCommandEncoder();
+      const pass = encoder.beginComputePass();
+      pass.setPipeline(pipeline);
+      pass.setBindGroup(0, bindGroup);
+      pass.dispatchWorkgroups(n / 8, n / 8);
+      pass.end();
+      device.queue.submit([encoder.finish()]);
+      await device.queue.onSubmittedWorkDone();
+    };
+    await run();
+    const started = performance.now();
+    await run();
+    return performance.now() - started;
+  } finally {
+    device.destroy();
+  }
+}
+
+/**
+ * Which backend `'auto'` should use here, and why: `{ backend: 'webgpu' | 'cpu', reason,
+ * adapter }`. No WebGPU or no adapter: the CPU. A fallback or software adapter (SwiftShader,
+ * llvmpipe, lavapipe, WARP): the CPU, which is faster there. A known GPU vendor: WebGPU.
+ * Otherwise a short timed probe ([`probeAdapter`]) decides. `gpu` (default `navigator.gpu`)
+ * and `probe` can be replaced, e.g. in tests.
+ */
+export async function chooseBackend({ gpu = globalThis.navigator?.gpu, probe = probeAdapter } = {}) {
+  if (!gpu) return { backend: 'cpu', reason: 'this browser has no WebGPU', adapter: null };
+  let adapter = null;
+  try {
+    adapter = await gpu.requestAdapter({ powerPreference: 'high-performance' });
+  } catch {
+    adapter = null;
+  }
+  if (!adapter) return { backend: 'cpu', reason: 'no WebGPU adapter', adapter: null };
+  const info = adapter.info ?? {};
+  const name = [info.vendor, info.architecture, info.device, info.description].filter(Boolean).join(' ') || 'unnamed adapter';
+  const described = { vendor: info.vendor ?? '', architecture: info.architecture ?? '', description: info.description ?? '' };
+  if (info.isFallbackAdapter || adapter.isFallbackAdapter) {
+    return { backend: 'cpu', reason: `the WebGPU adapter is a fallback adapter (${name}); the CPU path is faster`, adapter: described };
+  }
+  if (SOFTWARE_ADAPTER.test(name)) {
+    return { backend: 'cpu', reason: `the WebGPU adapter is a software renderer (${name}); the CPU path is faster`, adapter: described };
+  }
+  if (GPU_VENDOR.test(info.vendor ?? '')) {
+    return { backend: 'webgpu', reason: `GPU adapter (${name})`, adapter: described };
+  }
+  let ms;
+  try {
+    ms = await probe(adapter);
+  } catch (e) {
+    return { backend: 'cpu', reason: `the WebGPU probe failed on ${name} (${e?.message ?? e})`, adapter: described };
+  }
+  const timing = `${ms.toFixed(0)} ms for a ${PROBE_SIZE}^3 matrix product`;
+  return ms > PROBE_LIMIT_MS
+    ? { backend: 'cpu', reason: `the WebGPU adapter (${name}) is slow: ${timing}; the CPU path is faster`, adapter: described }
+    : { backend: 'webgpu', reason: `the WebGPU adapter (${name}) is fast: ${timing}`, adapter: described };
+}
+
 /** A generated mesh: typed arrays, the report and exporters. */
 export class GeneratedMesh {
   constructor(inner) {
@@ -104,9 +199,21 @@ export class Model {
   get backend() {
     return this.#inner.backend;
   }
+  /**
+   * Why this backend: `{ asked, reason, adapter }` (`asked` is the `backend` option; with
+   * `'auto'`, `reason` is [`chooseBackend`]'s).
+   */
+  backendReport = null;
   /** The most vertices one generation makes. */
   get maxVertices() {
     return this.#inner.maxVertices;
+  }
+  /**
+   * Destroys the WebGPU device, as a GPU reset would (every later generation fails). For
+   * testing a page's fallback; nothing on the CPU backend.
+   */
+  destroyDevice() {
+    this.#inner.destroyDevice();
   }
   /**
    * A wgpu viewer drawing into `canvas` (an OffscreenCanvas, e.g. from
@@ -157,22 +264,40 @@ export class Model {
 
 /**
  * Loads the shipped models. `weights`: the folder URL holding vae.* and dit.* (default: the
- * package's `weights/`); `backend`: `'auto'` (WebGPU, else CPU), `'webgpu'` or `'cpu'`;
- * `onProgress(bytes, total)` during the download.
+ * package's `weights/f16/`, half the bytes of the f32 files in `weights/`, which load too); `backend`: `'auto'` (the faster one here, see [`chooseBackend`]),
+ * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download. The model's
+ * `backendReport` says which backend runs and why.
  */
 export async function loadModel({
-  weights = new URL('../../weights/', import.meta.url),
+  weights = new URL('../../weights/f16/', import.meta.url),
   backend = 'auto',
   onProgress,
   useCache = true,
   wasmUrl,
 } = {}) {
-  await initWasm(wasmUrl);
+  if (!['auto', 'webgpu', 'cpu'].includes(backend)) {
+    throw new TypeError(`backend must be 'auto', 'webgpu' or 'cpu', got ${JSON.stringify(backend)}`);
+  }
+  const [choice] = await Promise.all([
+    backend === 'auto' ? chooseBackend() : { backend, reason: `asked for ${backend}`, adapter: null },
+    initWasm(wasmUrl),
+  ]);
   const { files, fromCache } = await fetchWeights(weights, { onProgress, useCache });
   const text = new TextDecoder();
+  const load = (which) => MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
   try {
-    const inner = await MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], backend);
+    let inner;
+    let { reason } = choice;
+    try {
+      inner = await load(choice.backend);
+    } catch (e) {
+      // 'auto' chose WebGPU but the device would not start: the CPU path still works.
+      if (backend !== 'auto' || choice.backend !== 'webgpu') throw e;
+      inner = await load('cpu');
+      reason = `WebGPU failed to start (${e?.message ?? e})`;
+    }
     const model = new Model(inner);
+    model.backendReport = { asked: backend, reason, adapter: choice.adapter };
     model.weightsFromCache = fromCache;
     return model;
   } catch (e) {
@@ -184,9 +309,26 @@ export async function loadModel({
 
 /**
  * Reads a point cloud or mesh file (PLY, OBJ, STL, GLB/glTF, XYZ, ...) into the points to
- * condition on (a mesh is surface-sampled). Throws an Error with a message for bad files.
+ * condition on: `{ points, sourcePoints, fromMesh }`. A mesh is surface-sampled; a point cloud
+ * larger than 4,096 points is evenly subsampled to 4,096 (`sourcePoints` is the file's count).
+ * Throws an Error with a message for bad files.
  */
-export async function readPoints(bytes, fileName) {
+export async function readInput(bytes, fileName) {
   await initWasm();
-  return new Float32Array(readPointsWasm(bytes, fileName));
+  const read = readInputWasm(bytes, fileName);
+  try {
+    return { points: new Float32Array(read.points), sourcePoints: read.sourcePoints, fromMesh: read.fromMesh };
+  } finally {
+    read.free();
+  }
+}
+
+/** The points of [`readInput`] alone (a Float32Array of x, y, z). */
+export async function readPoints(bytes, fileName) {
+  return (await readInput(bytes, fileName)).points;
+}
+
+/** Bytes of the wasm module's memory (it grows and never shrinks; for diagnostics and tests). */
+export async function wasmMemoryBytes() {
+  return (await initWasm()).memory.buffer.byteLength;
 }

@@ -45,8 +45,8 @@ pub struct TensorMap {
 
 impl TensorMap {
     /// Reads the tensors of a safetensors file whose names start with `prefix`, with the prefix
-    /// removed (`""` reads all). F32 tensors are read as they are and F64 ones rounded to F32;
-    /// other dtypes are refused.
+    /// removed (`""` reads all). F32 and F16 tensors are read exactly and F64 ones rounded to
+    /// F32; other dtypes are refused.
     pub fn from_safetensors(bytes: &[u8], prefix: &str) -> Result<Self, WeightsError> {
         Self::read(bytes, prefix, false)
     }
@@ -83,6 +83,12 @@ impl TensorMap {
                     .data()
                     .chunks_exact(8)
                     .map(|c| f64::from_le_bytes(c.try_into().expect("8 bytes")) as f32)
+                    .collect(),
+                // Half-size weights for the browser download (exactly representable in f32).
+                Dtype::F16 => view
+                    .data()
+                    .chunks_exact(2)
+                    .map(|c| half::f16::from_le_bytes([c[0], c[1]]).to_f32())
                     .collect(),
                 other => {
                     return Err(WeightsError::Dtype {
@@ -374,4 +380,23 @@ pub fn seeded_init<M: Module>(module: M, seed: u64) -> M {
         fan_in: 1,
     };
     module.map(&mut init)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// F16 tensors (the browser's half-size weights) read back as the f32 values they hold.
+    #[test]
+    fn f16_tensors_read_as_their_exact_values() {
+        let values = [0.0f32, 1.0, -2.5, 0.333_251_95, 65504.0, 6.1035156e-5];
+        let raw: Vec<u8> = values
+            .iter()
+            .flat_map(|&v| half::f16::from_f32(v).to_le_bytes())
+            .collect();
+        let view = safetensors::tensor::TensorView::new(Dtype::F16, vec![2, 3], &raw).unwrap();
+        let bytes = safetensors::serialize([("w".to_string(), view)], None).unwrap();
+        let map = TensorMap::from_safetensors(&bytes, "").unwrap();
+        assert_eq!(map.tensors["w"], (vec![2, 3], values.to_vec()));
+    }
 }
