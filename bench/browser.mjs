@@ -1,13 +1,14 @@
 // Time to first mesh and per-stage times of the web page in Debian's headless Chromium,
 // written to bench/browser.json. Not a test: run it by hand after scripts/build-web.sh,
-//   node bench/browser.mjs [--steps 28]
+//   node bench/browser.mjs [--steps 28] [--cpu-only [--runs N] -o FILE]
 // Three runs of the lantern scan at the page's defaults (vertex budget from the shape, 28
 // steps, seed 0):
 //   cold:  a fresh browser profile, so the weights are downloaded and nothing is cached;
 //   warm:  the same profile reloaded, weights from Cache Storage;
 //   cpu:   WebGPU off, the CPU fallback inside wasm (warm, from its own first load).
 // WebGPU here is SwiftShader, a CPU implementation of Vulkan: these are the figures of a
-// machine without a GPU, not of a visitor's GPU.
+// machine without a GPU, not of a visitor's GPU. --cpu-only skips the (slow) WebGPU runs and
+// times N warm CPU runs (default 3) into FILE, for comparing two builds side by side.
 import { chromium } from 'playwright-core';
 import { mkdtempSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { execSync } from 'node:child_process';
@@ -17,7 +18,9 @@ import { fileURLToPath } from 'node:url';
 import { serve } from '../web/serve.mjs';
 
 const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
-const steps = Number(process.argv[process.argv.indexOf('--steps') + 1] || 28) || 28;
+const arg = (name, fallback) => (process.argv.includes(name) ? process.argv[process.argv.indexOf(name) + 1] : fallback);
+const steps = Number(arg('--steps', 28)) || 28;
+const cpuOnly = process.argv.includes('--cpu-only');
 const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--use-angle=swiftshader', '--use-vulkan=swiftshader', '--enable-features=Vulkan'];
 // The lantern scan the earlier figures used (the page's own examples are not from the training
 // data; this fixture is kept for comparability).
@@ -69,10 +72,26 @@ async function run(webgpu, runs) {
   return results;
 }
 
+const wasm = join(ROOT, 'web/pkg/meshflow_bg.wasm');
+if (cpuOnly) {
+  const runs = Number(arg('--runs', 3)) || 3;
+  const [, ...warm] = await run(false, [false, ...Array(runs).fill(true)]);
+  server.close();
+  const result = {
+    method: `node bench/browser.mjs --cpu-only: headless Chromium ${execSync('chromium --version').toString().trim()}, ` +
+      `the CPU path in wasm, the lantern scan at the page defaults with ${steps} steps, ${runs} warm runs after a first load`,
+    machine: `${cpus()[0].model}, ${cpus().length} threads`,
+    wasm_bytes: statSync(wasm).size,
+    wasm_gzip_bytes: Number(execSync(`gzip -9 -c ${wasm} | wc -c`).toString()),
+    cpu: warm,
+  };
+  writeFileSync(arg('-o', join(ROOT, 'bench/browser_cpu.json')), `${JSON.stringify(result, null, 2)}\n`);
+  console.log(warm.map((r) => `generate ${r.generate_s.toFixed(2)} s (sample ${r.stages_s.sample_s.toFixed(2)} s)`).join('\n'));
+  process.exit(0);
+}
 const [cold, warm] = await run(true, [false, true]);
 const [, cpu] = await run(false, [false, true]);
 server.close();
-const wasm = join(ROOT, 'web/pkg/meshflow_bg.wasm');
 const result = {
   method: `node bench/browser.mjs: headless Chromium ${execSync('chromium --version').toString().trim()} ` +
     `(WebGPU = SwiftShader), the lantern scan at the page defaults with ${steps} steps, one run each`,
