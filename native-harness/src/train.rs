@@ -558,15 +558,18 @@ pub fn data_version(dir: &Path) -> String {
     }
 }
 
+/// Each file whole or not at all; the manifest last, so a manifest never names weights that
+/// are not there yet.
 fn write_weights(dir: &Path, bytes: &[u8], manifest: &WeightsManifest) -> Result<()> {
-    fs::write(dir.join("vae.safetensors"), bytes)?;
-    fs::write(
-        dir.join("vae.json"),
-        serde_json::to_string_pretty(&manifest.model)?,
+    use meshflow::io::write_atomic;
+    write_atomic(&dir.join("vae.safetensors"), bytes)?;
+    write_atomic(
+        &dir.join("vae.json"),
+        serde_json::to_string_pretty(&manifest.model)?.as_bytes(),
     )?;
-    fs::write(
-        dir.join("vae.manifest.json"),
-        serde_json::to_string_pretty(manifest)?,
+    write_atomic(
+        &dir.join("vae.manifest.json"),
+        serde_json::to_string_pretty(manifest)?.as_bytes(),
     )?;
     Ok(())
 }

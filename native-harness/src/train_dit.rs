@@ -9,6 +9,7 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use clap::Args;
 use meshflow::device::{BackendKind, device};
+use meshflow::io::write_atomic;
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 use serde::Serialize;
@@ -141,14 +142,16 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         machine: crate::train::machine_description(),
         backend: BackendKind::from(args.backend).name().into(),
     };
-    fs::write(args.out.join("dit.safetensors"), &bytes)?;
-    fs::write(
-        args.out.join("dit.json"),
-        serde_json::to_string_pretty(&cfg.model)?,
+    // Each file whole or not at all; the manifest last, so a manifest never names weights
+    // that are not there yet.
+    write_atomic(&args.out.join("dit.safetensors"), &bytes)?;
+    write_atomic(
+        &args.out.join("dit.json"),
+        serde_json::to_string_pretty(&cfg.model)?.as_bytes(),
     )?;
-    fs::write(
-        args.out.join("dit.manifest.json"),
-        serde_json::to_string_pretty(&manifest)?,
+    write_atomic(
+        &args.out.join("dit.manifest.json"),
+        serde_json::to_string_pretty(&manifest)?.as_bytes(),
     )?;
     println!(
         "{steps} steps -> {}",

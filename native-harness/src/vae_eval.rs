@@ -17,10 +17,65 @@ use crate::BadInput;
 use crate::extract_args::ExtractArgs;
 use crate::train::{Backend, load_split, load_weights};
 
+/// The shipped weights, compiled into the binary: the last resort of [`weights_dir`], so an
+/// installed `meshflow` works with no repository and no weights folder beside it.
+const EMBEDDED_WEIGHTS: [(&str, &[u8]); 4] = [
+    (
+        "vae.manifest.json",
+        include_bytes!("../../weights/vae.manifest.json"),
+    ),
+    (
+        "vae.safetensors",
+        include_bytes!("../../weights/vae.safetensors"),
+    ),
+    (
+        "dit.manifest.json",
+        include_bytes!("../../weights/dit.manifest.json"),
+    ),
+    (
+        "dit.safetensors",
+        include_bytes!("../../weights/dit.safetensors"),
+    ),
+];
+
+/// Writes [`EMBEDDED_WEIGHTS`] once into a cache folder named by their checksum
+/// (`$XDG_CACHE_HOME` or `~/.cache`, `meshflow/weights-<sha256 prefix>/`) and returns it. The
+/// folder is filled under a temporary name and renamed into place, so a reader never sees half
+/// of it.
+fn embedded_weights_dir() -> Result<PathBuf> {
+    let cache = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("meshflow");
+    let mut all = Vec::new();
+    for (_, bytes) in EMBEDDED_WEIGHTS {
+        all.extend_from_slice(meshflow::shipped::sha256_hex(bytes).as_bytes());
+    }
+    let dir = cache.join(format!(
+        "weights-{}",
+        &meshflow::shipped::sha256_hex(&all)[..16]
+    ));
+    if dir.join("dit.safetensors").is_file() {
+        return Ok(dir);
+    }
+    let partial = cache.join(format!("weights-partial-{}", std::process::id()));
+    std::fs::create_dir_all(&partial)?;
+    for (name, bytes) in EMBEDDED_WEIGHTS {
+        std::fs::write(partial.join(name), bytes)?;
+    }
+    if std::fs::rename(&partial, &dir).is_err() {
+        // Another process put it in place first.
+        let _ = std::fs::remove_dir_all(&partial);
+    }
+    Ok(dir)
+}
+
 /// The weights folder to use: `--weights` when given, else the first that holds a
 /// `vae.manifest.json` of: `$MESHFLOW_WEIGHTS`, `./weights`, `weights/` beside the executable
-/// or in `../share/meshflow/` from it, and the repository the binary was built from (so
-/// `cargo install --path native-harness` finds the shipped weights from any folder).
+/// or in `../share/meshflow/` from it; else the copy compiled into the binary (the repository's
+/// `weights/` at build time, written once to a cache folder), so `cargo install --path
+/// native-harness` works from any folder, with or without the repository.
 pub fn weights_dir(flag: Option<&Path>) -> Result<PathBuf> {
     if let Some(dir) = flag {
         return Ok(dir.to_path_buf());
@@ -37,16 +92,18 @@ pub fn weights_dir(flag: Option<&Path>) -> Result<PathBuf> {
         tried.push(exe_dir.join("weights"));
         tried.push(exe_dir.join("../share/meshflow/weights"));
     }
-    tried.push(Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights"));
     if let Some(found) = tried.iter().find(|d| d.join("vae.manifest.json").is_file()) {
         return Ok(found.clone());
     }
-    let list: Vec<String> = tried.iter().map(|d| d.display().to_string()).collect();
-    Err(BadInput(format!(
-        "no shipped weights found (tried {}); pass --weights DIR or set MESHFLOW_WEIGHTS",
-        list.join(", ")
-    ))
-    .into())
+    embedded_weights_dir().map_err(|e| {
+        let list: Vec<String> = tried.iter().map(|d| d.display().to_string()).collect();
+        BadInput(format!(
+            "no shipped weights found (tried {}) and the built-in copy could not be written \
+             ({e}); pass --weights DIR or set MESHFLOW_WEIGHTS",
+            list.join(", ")
+        ))
+        .into()
+    })
 }
 
 #[derive(Args)]

@@ -807,3 +807,42 @@ fn the_shipped_models_generate_on_lavapipe() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Run from a folder with no weights and no `--weights`, `generate` uses the copy compiled into
+/// the binary, written once into the cache folder.
+#[test]
+fn generate_finds_the_built_in_weights_from_any_folder() {
+    let dir = temp_dir("anywhere");
+    let cache = dir.join("cache");
+    let points = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../tests/fixtures/points/stone_lantern_2048.ply");
+    let out = Command::new(env!("CARGO_BIN_EXE_meshflow"))
+        .args([
+            "generate",
+            points.to_str().unwrap(),
+            "-o",
+            "out.glb",
+            "--steps",
+            "2",
+        ])
+        .current_dir(&dir)
+        .env_remove("MESHFLOW_WEIGHTS")
+        .env("XDG_CACHE_HOME", &cache)
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(dir.join("out.glb").is_file());
+    let written: Vec<_> = std::fs::read_dir(cache.join("meshflow"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().to_string())
+        .collect();
+    assert!(
+        written.len() == 1 && written[0].starts_with("weights-"),
+        "{written:?}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
