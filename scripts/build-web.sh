@@ -6,7 +6,7 @@
 # 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
 #    with `--target web` into web/pkg/;
 # 3. shrinks it with npm binaryen@132's `wasm-opt -Oz` (Debian's binaryen 108 corrupts this
-#    module; DESIGN.md section 6);
+#    module; docs/design.md section 6);
 # 4. writes the half-size (f16) weights the page and npm package download by default
 #    (scripts/half-weights.mjs: weights/ -> weights/f16/);
 # 5. prints the sizes, raw and gzipped.

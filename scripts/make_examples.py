@@ -2,7 +2,7 @@
 """Build the bundled example point clouds in web/examples/ from their original meshes.
 
 Five ASCII PLY point clouds are made from meshes shipped in three published
-packages (none of them a training source, see shared/DATA.md):
+packages (none of them a training source, see docs/data.md):
 
     Debian assimp-testmodels 5.2.5~ds0-1   CesiumMilkTruck (glTF 1.0), 2CylinderEngine (GLB)
     PyPI panda3d 1.10.16                   panda.egg.pz, panda-model.egg.pz

@@ -1,4 +1,4 @@
-// The spacetime threshold of MeshFlow's Algorithm 1 (DESIGN.md section 1), on the GPU.
+// The spacetime threshold of MeshFlow's Algorithm 1 (docs/design.md section 2), on the GPU.
 //
 // Vertices i < j of one decoded mesh are joined iff both are kept (mask logit > 0) and
 //   d(h_i, h_j) = |s_i - s_j|^2 - |t_i - t_j|^2 > tau,

@@ -1,4 +1,4 @@
-//! Cleaning of imported meshes (DATA.md, "Cleaning"): welding, then removal of degenerate,
+//! Cleaning of imported meshes (docs/data.md, "Cleaning"): welding, then removal of degenerate,
 //! duplicate and back-to-back faces and of unreferenced vertices.
 //!
 //! Rules, in the order [`clean`] applies them:

@@ -17,7 +17,7 @@
 //! generate --split val`): uniformly drawn points gave CD x100 12.82 / HD 27.22, farthest
 //! points 10.79 / 23.86.
 //!
-//! The vertex-count condition is `vertex_count / num_latents` (DESIGN.md section 2).
+//! The vertex-count condition is `vertex_count / num_latents` (docs/design.md section 2).
 
 use glam::Vec3;
 

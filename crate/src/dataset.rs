@@ -457,7 +457,7 @@ pub struct ManifestEntry {
     pub path: String,
     /// Sub-mesh name, empty when the file is one mesh (all readers merge sub-meshes today).
     pub submesh: String,
-    /// License of the source (DATA.md's per-source table).
+    /// License of the source (docs/data.md's per-source table).
     pub license: String,
     pub vertices: usize,
     pub faces: usize,
@@ -571,7 +571,7 @@ pub fn max_degree(mesh: &Mesh) -> usize {
         .unwrap_or(0)
 }
 
-/// The mesh filter's limits (DATA.md; the first three are the paper's).
+/// The mesh filter's limits (docs/data.md; the first three are the paper's).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
 pub struct FilterOptions {
     pub max_vertices: usize,

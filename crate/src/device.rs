@@ -1,7 +1,7 @@
 //! Where the networks run: Burn's CPU backend (flex; ndarray with the `ndarray` feature, for
 //! comparison) or, with the `wgpu` feature, burn-wgpu
 //! pinned to Vulkan (lavapipe without a GPU, NVIDIA's driver on a real one). Pinning matters:
-//! wgpu would otherwise fall back to OpenGL silently (DESIGN.md section 6).
+//! wgpu would otherwise fall back to OpenGL silently (docs/design.md section 6).
 
 use burn::tensor::Device;
 

@@ -1,4 +1,4 @@
-//! Evaluation metrics, following DESIGN.md section 3 so numbers compare with the paper's tables.
+//! Evaluation metrics, following docs/design.md section 3 so numbers compare with the paper's tables.
 //!
 //! - [`chamfer_hausdorff`]: Chamfer distance (sum of the two one-sided mean nearest distances,
 //!   unsquared Euclidean) and Hausdorff distance (the larger one-sided maximum) between point sets.
@@ -150,7 +150,7 @@ pub fn chamfer_hausdorff(a: &[Vec3], b: &[Vec3]) -> Result<Distances, MetricsErr
 /// Settings of [`compare_meshes`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct CompareOptions {
-    /// Points sampled on each surface: 5,000 (DESIGN.md section 3).
+    /// Points sampled on each surface: 5,000 (docs/design.md section 3).
     pub samples: usize,
     /// Master seed. The prediction is sampled with the first output of `Rng::new(seed)`
     /// (`next_u64`) and the ground truth with the second, so the two never share a stream.
@@ -277,7 +277,7 @@ fn normal_consistency(m: &Matching, na: &[Vec3], nb: &[Vec3]) -> f64 {
     0.5 * (one_side(&m.a_to_b, na, nb) + one_side(&m.b_to_a, nb, na))
 }
 
-/// Compares a predicted mesh with the ground truth by the protocol of DESIGN.md section 3.
+/// Compares a predicted mesh with the ground truth by the protocol of docs/design.md section 3.
 ///
 /// Both meshes are mapped by `Normalization::to_metric_frame(gt.aabb())` (the ground truth's
 /// longest side to [-0.5, 0.5], centred; the same transform for the prediction), then

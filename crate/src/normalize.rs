@@ -2,7 +2,7 @@
 //! rotation that brings a source's up axis to the model frame's.
 //!
 //! The model works in [-1, 1] (the box's longest side spans [-1, 1], centred); the metrics of
-//! DESIGN.md section 3 work in [-0.5, 0.5] computed from the ground truth's box and applied to
+//! docs/design.md section 3 work in [-0.5, 0.5] computed from the ground truth's box and applied to
 //! the prediction too. Scaling is uniform, so normals are unchanged.
 //!
 //! The model frame is **Y-up** (as in glTF): +Y points up, and the training data is rotated

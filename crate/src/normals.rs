@@ -1,6 +1,6 @@
 //! Area-weighted vertex normals and unit face normals.
 //!
-//! Conventions (DESIGN.md section 2, the same the reference's meshes use): every face adds its
+//! Conventions (docs/design.md section 2, the same the reference's meshes use): every face adds its
 //! *unnormalised* cross product `(b - a) x (c - a)` (twice its area times its unit normal) to its
 //! three corners; the sum is then normalised. A vertex whose sum has length `<= 1e-8`, or that no
 //! face uses, gets `+Z`, the fallback mesh extraction uses for its winding test too.

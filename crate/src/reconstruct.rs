@@ -1,6 +1,6 @@
 //! VAE reconstruction of meshes: tokens -> encode (posterior mean) -> decode -> Algorithm 1,
 //! with the paper's Table 3 figures per mesh (vertex and normal distance, edge
-//! precision/recall/F1 against the ground-truth adjacency) and CD/HD by DESIGN.md section 3.
+//! precision/recall/F1 against the ground-truth adjacency) and CD/HD by docs/design.md section 3.
 //!
 //! Inputs must already be cleaned and in the model frame (the data build's shards are; use
 //! [`prepare`] for an arbitrary mesh file).

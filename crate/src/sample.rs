@@ -1,4 +1,4 @@
-//! Seeded area-uniform surface sampling (DESIGN.md section 3: "sample 5,000 points uniformly by
+//! Seeded area-uniform surface sampling (docs/design.md section 3: "sample 5,000 points uniformly by
 //! area on each surface (seeded)").
 //!
 //! Reproducibility: for a given mesh, count and seed the samples are the same on every platform.

@@ -1,4 +1,4 @@
-//! The MeshVAE's per-vertex input tokens for one mesh (DESIGN.md section 2, golden `vae_small`).
+//! The MeshVAE's per-vertex input tokens for one mesh (docs/design.md section 2, golden `vae_small`).
 //!
 //! Rules, all implemented here and nowhere else:
 //! - **Frame.** The mesh must already be in the model frame [-1, 1]

@@ -1,5 +1,5 @@
 //! Connectivity of a triangle mesh: edges, adjacency, boundary loops, components, and the
-//! topology report that every generated mesh is judged by (DESIGN.md section 3).
+//! topology report that every generated mesh is judged by (docs/design.md section 3).
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -268,7 +268,7 @@ pub fn is_degenerate(positions: &[Vec3], face: [u32; 3], scale: f32, tolerance: 
     (q - p).cross(r - p).length() <= tolerance * scale * scale
 }
 
-/// The topology figures DESIGN.md section 3 asks for, for any mesh.
+/// The topology figures docs/design.md section 3 asks for, for any mesh.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct TopologyReport {
     pub vertices: usize,

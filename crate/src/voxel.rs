@@ -1,6 +1,6 @@
 //! Voxel indices of model-frame points at resolution 32: the positions the DiT's 3-D RoPE uses.
 //!
-//! Rule (DESIGN.md section 2): per axis, `clamp(floor((p + 1) / 2 * 32), 0, 31)` for `p` in the
+//! Rule (docs/design.md section 2): per axis, `clamp(floor((p + 1) / 2 * 32), 0, 31)` for `p` in the
 //! model frame [-1, 1]. The arithmetic is done in `f32` in exactly that order (add 1, halve,
 //! multiply by 32, floor), as the reference does on float32 tensors, so points on a cell boundary
 //! land in the same cell. So `-1 -> 0`, `1 -> 31` (the closed upper end is clamped into the last

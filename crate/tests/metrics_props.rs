@@ -1,4 +1,4 @@
-//! Property tests of sampling and the evaluation metrics (DESIGN.md section 3).
+//! Property tests of sampling and the evaluation metrics (docs/design.md section 3).
 
 use glam::Vec3;
 use meshflow::Mesh;

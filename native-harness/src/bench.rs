@@ -1,5 +1,5 @@
 //! `meshflow bench extract`: extraction and threshold timings as JSON, beside the reference
-//! implementation's figures (DESIGN.md section 4). One thread; median of repeated runs.
+//! implementation's figures (docs/design.md section 4). One thread; median of repeated runs.
 
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
@@ -31,7 +31,7 @@ pub enum BenchCommand {
     TrainVae(crate::train::BenchTrainVaeArgs),
 }
 
-/// The reference implementation's times on one CPU thread (DESIGN.md section 4), in ms.
+/// The reference implementation's times on one CPU thread (docs/design.md section 4), in ms.
 const REFERENCE_EXTRACT_MS: [(usize, f64); 4] =
     [(162, 47.0), (642, 185.0), (2562, 772.0), (10242, 3300.0)];
 const REFERENCE_THRESHOLD_MS: [(usize, f64); 4] =

@@ -1,4 +1,4 @@
-//! `meshflow data`: fetch the allowed sources (shared/DATA.md), build training shards from
+//! `meshflow data`: fetch the allowed sources (docs/data.md), build training shards from
 //! them, and look at the result.
 //!
 //! The build core, [`build`], takes a list of [`PackageInput`]s (name, version, license, the
@@ -57,7 +57,7 @@ const MESH_EXTENSIONS: [&str; 22] = [
     "dae", "iqm", "iqe", "3ds", "x", "b3d", "ms3d", "lwo", "fbx",
 ];
 
-/// A Debian package of DATA.md's table and its license.
+/// A Debian package of docs/data.md's table and its license.
 pub const DEBIAN_SOURCES: [(&str, &str); 9] = [
     ("0ad-data", "CC-BY-SA-3.0"),
     ("supertuxkart-data", "CC-BY-SA-3.0/4.0 (some CC0, CC-BY)"),
@@ -89,7 +89,7 @@ fn license_of(pkg: &PackageInput, path: &str) -> String {
 /// to the model frame's Y-up ([`UpAxis::to_y_up`]) before normalising it and records the
 /// source's axis in the manifest (`up_axis`).
 ///
-/// Evidence, from the 6,292-mesh build (shared/DATA.md sources): for each source and format,
+/// Evidence, from the 6,292-mesh build (docs/data.md sources): for each source and format,
 /// the axis on which objects rest on the origin (their minimum is ~0 while the other two
 /// axes are centred) and the longest axis of obviously upright objects (trees, towers, lamp
 /// posts, flags, statues, characters):
@@ -141,7 +141,7 @@ pub fn up_axis_of(package: &str, path: &str) -> UpAxis {
         .map_or(UpAxis::Y, |(_, _, axis)| *axis)
 }
 
-/// The PyPI projects of DATA.md's table and their licenses.
+/// The PyPI projects of docs/data.md's table and their licenses.
 pub const PYPI_SOURCES: [(&str, &str); 7] = [
     ("robosuite", "MIT"),
     ("example-robot-data", "BSD-3-Clause"),
@@ -2036,7 +2036,7 @@ mod tests {
         assert_eq!(up_axis_of("fake-data", "a.obj"), UpAxis::Y);
         // COLLADA files come out of the reader Y-up, whatever the package.
         assert_eq!(up_axis_of("robosuite", "r/meshes/a.dae"), UpAxis::Y);
-        // Every source of DATA.md has a row.
+        // Every source of docs/data.md has a row.
         for (name, _) in DEBIAN_SOURCES.iter().chain(PYPI_SOURCES.iter()) {
             assert!(UP_AXES.iter().any(|(p, _, _)| p == name), "{name}");
         }

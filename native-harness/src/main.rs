@@ -63,7 +63,7 @@ enum Command {
         #[arg(long)]
         clean: bool,
     },
-    /// Chamfer and Hausdorff distance (x100, DESIGN.md section 3) and topology of PRED against GT.
+    /// Chamfer and Hausdorff distance (x100, docs/design.md section 3) and topology of PRED against GT.
     Compare {
         pred: PathBuf,
         gt: PathBuf,
@@ -87,7 +87,7 @@ enum Command {
         #[arg(long)]
         json: bool,
     },
-    /// Training data: fetch the allowed sources, build shards (shared/DATA.md).
+    /// Training data: fetch the allowed sources, build shards (docs/data.md).
     Data {
         #[command(subcommand)]
         which: DataCommand,

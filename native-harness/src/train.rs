@@ -134,7 +134,7 @@ struct StepReport {
     matmul_peak_gflop_per_s: f64,
 }
 
-/// The CPU backend's matmul throughput on DESIGN.md's reference shape, best of 5 runs.
+/// The CPU backend's matmul throughput on docs/design.md's reference shape, best of 5 runs.
 fn matmul_peak(device: &meshflow::burn::tensor::Device) -> f64 {
     use meshflow::burn::tensor::{Distribution, Tensor};
     let a = Tensor::<2>::random([4096, 256], Distribution::Default, device);

@@ -1,5 +1,5 @@
 //! `meshflow reconstruct` and `meshflow eval vae`: VAE round trips with the paper's Table 3
-//! figures, CD/HD x100 (DESIGN.md section 3), and the topology of the extracted meshes.
+//! figures, CD/HD x100 (docs/design.md section 3), and the topology of the extracted meshes.
 
 use std::fs;
 use std::path::{Path, PathBuf};

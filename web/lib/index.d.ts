@@ -8,7 +8,7 @@ export interface StageTimes {
   fit_s: number;
 }
 
-/** DESIGN.md section 3's topology figures. */
+/** docs/design.md section 3's topology figures. */
 export interface TopologyReport {
   vertices: number;
   faces: number;

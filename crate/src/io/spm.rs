@@ -14,7 +14,7 @@
 //!   bytes of tangent if flag bit 2 *and* the first texture is present; 16 bytes of joints and
 //!   weights if skinned.
 //!
-//! Two differences from the layout notes in `shared/DATA.md`, found by reading all 1,222
+//! Two differences from the layout notes in `docs/data.md`, found by reading all 1,222
 //! `.spm` files of supertuxkart-data 1.4: tangents are stored only for vertices whose material
 //! has a first texture, and static meshes end exactly after the last mesh's indices (no 24
 //! trailing bytes). Skinned files continue with armature data, which is ignored, as are any

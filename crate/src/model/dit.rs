@@ -3,7 +3,7 @@
 //! embedding.
 //!
 //! Paper: "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based Diffusion
-//! Transformer" (CVPR 2026). Conventions: DESIGN.md section 2; parameter names are the
+//! Transformer" (CVPR 2026). Conventions: docs/design.md section 2; parameter names are the
 //! reference's (golden `dit_small`). The reference's image cross-attention (`attn2`, `norm2`)
 //! is not built; its tensors are ignored when loading.
 //!

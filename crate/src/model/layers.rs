@@ -1,4 +1,4 @@
-//! Layers shared by the MeshVAE and the DiT (DESIGN.md section 2): multi-head attention with
+//! Layers shared by the MeshVAE and the DiT (docs/design.md section 2): multi-head attention with
 //! per-head RMS q/k norm, the GELU feed-forward, and the pre-norm self- and cross-attention
 //! blocks of the VAE.
 //!

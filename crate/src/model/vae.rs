@@ -2,7 +2,7 @@
 //! per-vertex mask logits, positions, normals and edge embeddings.
 //!
 //! Paper: "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based Diffusion
-//! Transformer" (CVPR 2026). Layout and conventions: DESIGN.md section 2; parameter names are
+//! Transformer" (CVPR 2026). Layout and conventions: docs/design.md section 2; parameter names are
 //! the reference state-dict names (golden `vae_small`).
 //!
 //! ```text

@@ -4,7 +4,7 @@
 //! latent mean/std of the VAE's manifest, and stored with its latent tokens' RoPE positions
 //! ([`crate::condition::latent_positions`]) and its vertex count. A step draws `t` from a
 //! logit-normal (`sigmoid(N(0, 1))`), forms `x_t = (1 - t) x_0 + t eps` and regresses the
-//! velocity `eps - x_0` with mean squared error (DESIGN.md section 2).
+//! velocity `eps - x_0` with mean squared error (docs/design.md section 2).
 
 use std::collections::BTreeMap;
 use std::path::Path;

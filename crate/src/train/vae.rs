@@ -2,7 +2,7 @@
 //! losses, and a step profiler; the loop itself (schedule, AdamW, EMA, checkpoints, metrics)
 //! is [`super::run`], shared with the DiT.
 //!
-//! Losses (DESIGN.md section 2), each averaged per mesh and then over the batch:
+//! Losses (docs/design.md section 2), each averaged per mesh and then over the batch:
 //! - mask: binary cross-entropy of the mask logits against real/padding, over all N tokens;
 //! - position and normal: squared error over real vertices (mean over vertices and the 3 axes);
 //! - adjacency: `(sum_E softplus(tau - d) + lambda_neg sum_notE softplus(d - tau)) / |E|`,
