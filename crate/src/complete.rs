@@ -362,11 +362,10 @@ fn usable(corners: [Vec3; 3], max_edge: f32, min_sin: f32) -> Option<f32> {
 fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool {
     let [a, b, c] = corners;
     let max2 = max_gap * max_gap;
-    let near = |p: Vec3| {
-        points
-            .nearest_neighbor(p.to_array())
-            .is_some_and(|q| Vec3::from_array(*q.geom()).distance_squared(p) <= max2)
-    };
+    // Any point within the gap will do: a search bounded by the gap stops at the first one and
+    // never visits the far side of the tree, unlike a nearest-neighbour search (which made this
+    // test a fifth of a whole generation's time).
+    let near = |p: Vec3| points.locate_within_distance(p.to_array(), max2).next().is_some();
     let coarse = [
         (a + b + c) / 3.0,
         (a + b) / 2.0,
