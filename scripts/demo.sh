@@ -58,6 +58,8 @@ run convert "$MESH" "$OUT/out.glb"
 run compare "$OUT/out.glb" "$MESH"
 run reconstruct "$MESH" -o "$OUT/reconstructed.glb" --weights weights
 run generate tests/fixtures/points/stone_lantern_2048.ply -o "$OUT/generated.glb" --weights weights
+# The page's examples, which come from no training source (web/examples/SOURCES.md).
+run generate web/examples/ -o "$OUT/examples/" --weights weights
 
 log "done. Input: $MESH"
 echo "[demo.sh] outputs in $OUT:"
@@ -65,6 +67,7 @@ echo "[demo.sh]   $OUT/points.ply  (8,192 sampled points, binary PLY)"
 echo "[demo.sh]   $OUT/out.glb     (binary glTF of the mesh)"
 echo "[demo.sh]   $OUT/reconstructed.glb (the shipped MeshVAE's reconstruction)"
 echo "[demo.sh]   $OUT/generated.glb (generated from the bundled point cloud)"
+echo "[demo.sh]   $OUT/examples/*.glb (generated from the page's five example point clouds)"
 echo "[demo.sh] the CLI binary is $MESHFLOW"
 
 if [[ "${MESHFLOW_DEMO_NO_SERVE:-}" != 1 ]]; then
