@@ -365,7 +365,12 @@ fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool
     // Any point within the gap will do: a search bounded by the gap stops at the first one and
     // never visits the far side of the tree, unlike a nearest-neighbour search (which made this
     // test a fifth of a whole generation's time).
-    let near = |p: Vec3| points.locate_within_distance(p.to_array(), max2).next().is_some();
+    let near = |p: Vec3| {
+        points
+            .locate_within_distance(p.to_array(), max2)
+            .next()
+            .is_some()
+    };
     let coarse = [
         (a + b + c) / 3.0,
         (a + b) / 2.0,
