@@ -3,7 +3,8 @@
 //! The method is "MeshFlow: Efficient Artistic Mesh Generation via MeshVAE and Flow-based
 //! Diffusion Transformer" (CVPR 2026). This crate holds everything that runs the same natively
 //! and in the browser: mesh I/O, the geometry core, the per-vertex tokens the MeshVAE reads,
-//! the paper's Algorithm 1 mesh extraction and the evaluation metrics.
+//! the models, mesh extraction, fitting to the input, and the evaluation metrics. The
+//! conventions it follows are in `docs/design.md` (cited as "docs/design.md section N").
 //!
 //! Module map (one algorithm per file):
 //! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
@@ -25,6 +26,15 @@
 //!   (default) or the paper's Algorithm 1.
 //! - [`manifold`]: the manifold method: candidate faces accepted best-first by edge margin,
 //!   manifold and consistently wound by construction, small holes filled, tiny pieces dropped.
+//! - [`overlap`]: the "no face lies on another it shares no edge with" test.
+//! - [`fit`]: generated vertices moved onto the input points without folding faces.
+//! - [`complete`]: the surface completed between generated vertices, on the input points.
+//! - [`degrade`]: noisy and partial versions of a point cloud, for robustness figures.
+//! - [`condition`]: where the DiT's latent tokens sit (farthest points of the input).
+//! - [`model`]: the MeshVAE, the DiT, their layers, sampler and weight loading.
+//! - [`reconstruct`]: a mesh through the MeshVAE and back.
+//! - [`device`]: the CPU (flex) and wgpu devices.
+//! - `train` (feature `train`): the training loop both models share, and each one's step.
 //! - [`camera`]: the viewer's orbit camera.
 //! - `viewer` (wasm32, feature `web`): the page's wgpu mesh viewer on Burn's WebGPU device.
 //! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
