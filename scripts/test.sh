@@ -11,6 +11,8 @@
 #                                           benches compiled and run once)
 #   cargo test --release --workspace --doc (--all-targets leaves doctests out)
 #   cargo clippy --workspace --all-targets -- -D warnings
+#   cargo doc --no-deps -p meshflow --features train
+#             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
 #   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
 #   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web
 #                --profile wasm-release -- -D warnings
@@ -127,6 +129,11 @@ run_doctests() { cargo test --release --workspace --doc 2>&1 | tee "$LOG_DIR/doc
 
 check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 
+# The library's docs build with every intra-doc link resolved.
+check_docs() {
+    RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links" cargo doc --no-deps -p meshflow --features train
+}
+
 build_web() { bash scripts/build-web.sh; }
 
 # The wasm-only modules are invisible to the native clippy run above.
@@ -203,6 +210,7 @@ main() {
     run_step test run_tests
     run_step doctest run_doctests
     run_step clippy check_clippy
+    run_step docs check_docs
     run_step web build_web
     run_step clippy-wasm check_clippy_wasm
     run_step browser run_browser_tests

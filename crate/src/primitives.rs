@@ -112,7 +112,7 @@ pub fn cube() -> Mesh {
     Mesh::new(positions, faces)
 }
 
-/// An open grid of `nx` x `ny` quads on z = 0 spanning [0,1]^2, each quad cut along the
+/// An open grid of `nx` x `ny` quads on z = 0 spanning `[0, 1]^2`, each quad cut along the
 /// diagonal from its (0,0) corner to its (1,1) corner. Vertex (i, j) has index `j * (nx+1) + i`.
 pub fn grid(nx: u32, ny: u32) -> Mesh {
     let mut positions = Vec::new();

@@ -236,7 +236,7 @@ pub struct Decoder {
 }
 
 /// The MeshVAE. Build with [`MeshVae::new`]; load weights with
-/// [`crate::model::weights::load_vae`].
+/// [`crate::shipped::load_vae`].
 #[derive(Module, Debug)]
 pub struct MeshVae {
     pub encoder: Encoder,
