@@ -18,6 +18,9 @@ pub enum BackendKind {
 }
 
 impl BackendKind {
+    /// Every kind, in the order the command line lists them.
+    pub const ALL: [BackendKind; 3] = [BackendKind::Cpu, BackendKind::Wgpu, BackendKind::Ndarray];
+
     /// The name used on the command line and in logs.
     pub fn name(self) -> &'static str {
         match self {
@@ -25,6 +28,18 @@ impl BackendKind {
             BackendKind::Wgpu => "wgpu",
             BackendKind::Ndarray => "ndarray",
         }
+    }
+}
+
+impl std::str::FromStr for BackendKind {
+    type Err = String;
+
+    /// The kind called `name` ([`BackendKind::name`]).
+    fn from_str(name: &str) -> Result<Self, String> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == name)
+            .ok_or_else(|| format!("unknown backend {name:?}: expected cpu, wgpu or ndarray"))
     }
 }
 
@@ -78,4 +93,22 @@ pub fn vulkan() -> Result<Device, String> {
 #[cfg(any(not(feature = "wgpu"), target_family = "wasm"))]
 pub fn vulkan() -> Result<Device, String> {
     Err("this build has no native wgpu backend (enable the `wgpu` feature)".into())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::BackendKind;
+
+    /// Each kind parses back from its command-line name; anything else is refused by name.
+    #[test]
+    fn backend_names_round_trip() {
+        for kind in BackendKind::ALL {
+            assert_eq!(kind.name().parse::<BackendKind>(), Ok(kind));
+        }
+        let err = "gpu".parse::<BackendKind>().unwrap_err();
+        assert!(
+            err.contains("\"gpu\"") && err.contains("cpu, wgpu or ndarray"),
+            "{err}"
+        );
+    }
 }

@@ -28,7 +28,7 @@ use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
-use crate::train::{Backend, load_weights, read_shipped};
+use crate::train::{load_weights, read_shipped};
 use crate::vae_eval::{EvalSetArgs, SurfaceSummary, eval_meshes, weights_dir};
 use meshflow::shipped::{DitManifest, VaeManifest};
 
@@ -102,8 +102,8 @@ pub struct SamplingArgs {
     /// Completion: nearest vertices each vertex may make a new face with.
     #[arg(long, default_value_t = CompleteOptions::default().neighbours)]
     complete_neighbours: usize,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
 }
 
 impl SamplingArgs {
@@ -219,8 +219,7 @@ fn read_input(path: &Path) -> Result<Mesh> {
 
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let started = Instant::now();
-    let device =
-        device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let device = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
     let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &device)?;
     let load_model_s = started.elapsed().as_secs_f64();
     let jobs: Vec<(PathBuf, PathBuf)> = if args.input.is_dir() {
@@ -463,7 +462,7 @@ fn summaries(results: &[&MeshResult], with_baseline: bool) -> MethodSummaries {
 }
 
 pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
-    let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
     let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
     let vcfg = &models.vae_manifest.model;
     let (meshes, mut skipped, source) = args.set.meshes(vcfg.num_vertices)?;
@@ -619,7 +618,7 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         budget: args.budget,
         noise: args.noise,
         missing: args.missing,
-        backend: BackendKind::from(args.sampling.backend).name().into(),
+        backend: args.sampling.backend.name().into(),
         skipped,
         mean_times,
         all: summaries(&all, with_baseline),
@@ -768,7 +767,7 @@ struct BenchGenerateReport {
 /// allocator warm-up) is not counted.
 pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     let started = Instant::now();
-    let dev = device(BackendKind::from(args.sampling.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
     let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
     let load_s = started.elapsed().as_secs_f64();
     let points = input_points(&read_input(&args.input)?, args.sampling.seed)
@@ -790,7 +789,7 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     };
     let report = BenchGenerateReport {
         input: args.input.display().to_string(),
-        backend: BackendKind::from(args.sampling.backend).name().into(),
+        backend: args.sampling.backend.name().into(),
         steps: opts.steps,
         runs: runs.len(),
         vertex_budget: last.vertex_budget,

@@ -48,8 +48,8 @@ pub struct TrainVaeArgs {
     batch_size: Option<usize>,
     #[arg(long)]
     seed: Option<u64>,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
     /// Use at most this many training meshes (0 = all).
     #[arg(long, default_value_t = 0)]
     limit: usize,
@@ -67,24 +67,13 @@ pub struct TrainVaeArgs {
     init: Option<PathBuf>,
 }
 
-#[derive(Clone, Copy, clap::ValueEnum)]
-pub enum Backend {
-    /// Burn's flex backend.
-    Cpu,
-    /// burn-wgpu over Vulkan.
-    Wgpu,
-    /// Burn's ndarray backend (a build with `--features ndarray`), for comparison with flex.
-    Ndarray,
-}
-
-impl From<Backend> for BackendKind {
-    fn from(b: Backend) -> Self {
-        match b {
-            Backend::Cpu => BackendKind::Cpu,
-            Backend::Wgpu => BackendKind::Wgpu,
-            Backend::Ndarray => BackendKind::Ndarray,
-        }
-    }
+/// The `--backend` values (the library's [`BackendKind`]: cpu = Burn's flex backend, wgpu =
+/// burn-wgpu over Vulkan, ndarray = Burn's ndarray backend in a build with `--features
+/// ndarray`, for comparison with flex), listed in `--help`.
+pub fn backend_parser() -> impl clap::builder::TypedValueParser<Value = BackendKind> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(BackendKind::ALL.map(BackendKind::name))
+        .try_map(|name| name.parse::<BackendKind>())
 }
 
 /// `meshflow bench train-vae`.
@@ -464,7 +453,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
             cfg.model.num_vertices
         )));
     }
-    let device = device(args.backend.into()).map_err(|e| anyhow::anyhow!(e))?;
+    let device = device(args.backend).map_err(|e| anyhow::anyhow!(e))?;
     let init = match &args.init {
         Some(dir) => {
             let (_, manifest) = load_weights(dir, &device)?;
@@ -492,7 +481,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         val.len(),
         cfg.steps,
         cfg.batch_size,
-        BackendKind::from(args.backend).name()
+        args.backend.name()
     );
     let started = Instant::now();
     let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
@@ -532,7 +521,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
             train_meshes: train.len(),
             wall_time_s: wall,
             machine: machine_description(),
-            backend: BackendKind::from(args.backend).name().into(),
+            backend: args.backend.name().into(),
             latent_mean,
             latent_std,
             final_validation: trained

@@ -15,7 +15,7 @@ use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 use serde::Serialize;
 
 use crate::BadInput;
-use crate::train::{Backend, BarObserver, load_split, load_weights};
+use crate::train::{BarObserver, load_split, load_weights};
 use meshflow::dataset::Split;
 use meshflow::shipped::sha256_hex;
 
@@ -36,8 +36,8 @@ pub struct TrainDitArgs {
     config: Option<PathBuf>,
     #[arg(long)]
     steps: Option<usize>,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
     /// Stop after this many seconds of wall time (checkpointed, weights written).
     #[arg(long)]
     time_budget_s: Option<f64>,
@@ -84,7 +84,7 @@ pub fn ship_config(num_latents: usize, latent_dim: usize) -> DitTrainConfig {
 }
 
 pub fn run(args: TrainDitArgs) -> Result<()> {
-    let device = device(args.backend.into()).map_err(|e| anyhow::anyhow!(e))?;
+    let device = device(args.backend).map_err(|e| anyhow::anyhow!(e))?;
     let (vae, vae_manifest) = load_weights(&args.vae, &device)?;
     let vcfg = &vae_manifest.model;
     let mut cfg = match &args.config {
@@ -151,7 +151,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         final_validation_loss: last_val,
         wall_time_s: started.elapsed().as_secs_f64(),
         machine: crate::train::machine_description(),
-        backend: BackendKind::from(args.backend).name().into(),
+        backend: args.backend.name().into(),
     };
     // Each file whole or not at all; the manifest last, so a manifest never names weights
     // that are not there yet.

@@ -15,7 +15,7 @@ use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
-use crate::train::{Backend, load_split, load_weights};
+use crate::train::{load_split, load_weights};
 
 /// The shipped weights, compiled into the binary: the last resort of [`weights_dir`], so an
 /// installed `meshflow` works with no repository and no weights folder beside it.
@@ -116,8 +116,8 @@ pub struct ReconstructArgs {
     /// weights, found from any folder: see README.md].
     #[arg(long)]
     weights: Option<PathBuf>,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
     #[command(flatten)]
     extract: ExtractArgs,
     #[arg(long)]
@@ -169,14 +169,14 @@ pub struct EvalVaeArgs {
     /// frame) into this folder.
     #[arg(long)]
     meshes: Option<PathBuf>,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
     #[command(flatten)]
     extract: ExtractArgs,
 }
 
 pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
-    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let device = device(args.backend).map_err(|e| anyhow::anyhow!(e))?;
     let (vae, manifest) = load_weights(&weights_dir(args.weights.as_deref())?, &device)?;
     let input = meshflow::io::read_path(&args.mesh, &meshflow::io::Limits::default())
         .with_context(|| format!("cannot read {}", args.mesh.display()))
@@ -440,7 +440,7 @@ fn split_meshes(
 const BATCH: usize = 8;
 
 pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
-    let device = device(BackendKind::from(args.backend)).map_err(|e| anyhow::anyhow!(e))?;
+    let device = device(args.backend).map_err(|e| anyhow::anyhow!(e))?;
     let weights = weights_dir(args.weights.as_deref())?;
     let (vae, manifest) = load_weights(&weights, &device)?;
     let cfg = &manifest.model;

@@ -15,8 +15,6 @@ use meshflow::model::schedule::ScheduleMode;
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module, spacetime_distances};
 use meshflow::tokens::assemble_features;
 
-use crate::train::Backend;
-
 /// Largest accepted absolute difference.
 pub const TOLERANCE: f32 = 1e-4;
 
@@ -25,8 +23,8 @@ pub struct VerifyArgs {
     /// Folder with vae_small.safetensors and dit_small.safetensors.
     #[arg(long)]
     golden: PathBuf,
-    #[arg(long, value_enum, default_value = "cpu")]
-    backend: Backend,
+    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
+    backend: BackendKind,
 }
 
 fn values<const D: usize>(t: Tensor<D>) -> Vec<f32> {
@@ -196,7 +194,7 @@ fn verify_dit(dir: &Path, device: &Device) -> Result<Vec<(String, f32)>> {
 }
 
 pub fn run(args: VerifyArgs) -> Result<()> {
-    let kind = BackendKind::from(args.backend);
+    let kind = args.backend;
     let device = device(kind).map_err(|e| anyhow::anyhow!(e))?;
     let mut failed = 0;
     for (model, rows) in [
