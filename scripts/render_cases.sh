@@ -5,7 +5,7 @@
 #
 # DIR is a folder written by `meshflow eval generate --meshes DIR` (K.points.ply, K.ours.glb,
 # K.gt.glb) after `python3 bench/poisson_qem.py DIR` (K.poisson.ply); a missing file leaves
-# its panel out. Each case is one row. Needs the meshflow CLI (built by scripts/demo.sh, or
+# its panel out. Each case is one row of COLS panels (default 4; 3 without ground truth). Needs the meshflow CLI (built by scripts/demo.sh, or
 # MESHFLOW=path) and numpy + matplotlib for scripts/render_meshes.py.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -23,4 +23,4 @@ for k in "$@"; do
         panels+=("$dst")
     done
 done
-python3 "$ROOT/scripts/render_meshes.py" "$OUT" "${panels[@]}" --cols 4
+python3 "$ROOT/scripts/render_meshes.py" "$OUT" "${panels[@]}" --cols "${COLS:-4}"

@@ -4,7 +4,7 @@
 #   bash scripts/render_examples.sh OUT.png
 #
 # Generates from web/examples/*.ply with the shipped weights (defaults), runs
-# bench/poisson_qem.py on them (pymeshlab) and renders with scripts/render_meshes.py. Needs the
+# bench/poisson_qem.py on them (pymeshlab) and renders with scripts/render_cases.sh. Needs the
 # meshflow CLI (MESHFLOW=path, default: the release build) and python3 with numpy, matplotlib
 # and pymeshlab.
 set -euo pipefail
@@ -13,7 +13,6 @@ MESHFLOW="${MESHFLOW:-${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}/release/
 OUT="$1"
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
-panels=()
 targets="{"
 k=0
 for ply in "$ROOT"/web/examples/*.ply; do
@@ -27,11 +26,5 @@ for ply in "$ROOT"/web/examples/*.ply; do
 done
 echo "$targets}" >"$TMP/targets.json"
 python3 "$ROOT/bench/poisson_qem.py" "$TMP" >/dev/null
-for ((i = 0; i < k; i++)); do
-    for what in points.ply ours.glb poisson.ply; do
-        dst="$TMP/${i}_${what%%.*}.obj"
-        "$MESHFLOW" convert "$TMP/$i.$what" "$dst" >/dev/null
-        panels+=("$dst")
-    done
-done
-python3 "$ROOT/scripts/render_meshes.py" "$OUT" "${panels[@]}" --cols 3
+# No ground truth here: three panels a row.
+MESHFLOW="$MESHFLOW" COLS=3 bash "$ROOT/scripts/render_cases.sh" "$TMP" "$OUT" $(seq 0 $((k - 1)))

@@ -39,7 +39,13 @@ impl std::str::FromStr for BackendKind {
         Self::ALL
             .into_iter()
             .find(|k| k.name() == name)
-            .ok_or_else(|| format!("unknown backend {name:?}: expected cpu, wgpu or ndarray"))
+            .ok_or_else(|| {
+                let names: Vec<&str> = Self::ALL.map(Self::name).to_vec();
+                format!(
+                    "unknown backend {name:?}: expected one of {}",
+                    names.join(", ")
+                )
+            })
     }
 }
 
@@ -107,7 +113,7 @@ mod tests {
         }
         let err = "gpu".parse::<BackendKind>().unwrap_err();
         assert!(
-            err.contains("\"gpu\"") && err.contains("cpu, wgpu or ndarray"),
+            err.contains("\"gpu\"") && err.contains("cpu, wgpu, ndarray"),
             "{err}"
         );
     }

@@ -456,14 +456,16 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     let device = device(args.backend).map_err(|e| anyhow::anyhow!(e))?;
     let init = match &args.init {
         Some(dir) => {
-            let (_, manifest) = load_weights(dir, &device)?;
+            // One read: the checked load (sha256, shapes) and the tensors come from the same bytes.
+            let (manifest_bytes, bytes) = read_shipped(dir, "vae")?;
+            let (_, manifest) = meshflow::shipped::load_vae(&manifest_bytes, &bytes, &device)
+                .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
             if manifest.model != cfg.model {
                 bail!(BadInput(format!(
                     "--init {}: its VAE configuration differs from the training configuration's",
                     dir.display()
                 )));
             }
-            let (_, bytes) = read_shipped(dir, "vae")?;
             let map = TensorMap::from_safetensors(&bytes, "")?;
             Some((map, manifest))
         }

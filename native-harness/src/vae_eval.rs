@@ -48,13 +48,16 @@ fn embedded_weights_dir() -> Result<PathBuf> {
         .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
         .unwrap_or_else(std::env::temp_dir)
         .join("meshflow");
-    let mut all = Vec::new();
-    for (_, bytes) in EMBEDDED_WEIGHTS {
-        all.extend_from_slice(meshflow::shipped::sha256_hex(bytes).as_bytes());
-    }
+    // The manifests name their safetensors by sha256, so hashing them (not 25 MB of weights on
+    // every run) identifies the pair.
+    let manifests: Vec<u8> = EMBEDDED_WEIGHTS
+        .iter()
+        .filter(|(name, _)| name.ends_with(".manifest.json"))
+        .flat_map(|(_, bytes)| bytes.iter().copied())
+        .collect();
     let dir = cache.join(format!(
         "weights-{}",
-        &meshflow::shipped::sha256_hex(&all)[..16]
+        &meshflow::shipped::sha256_hex(&manifests)[..16]
     ));
     if dir.join("dit.safetensors").is_file() {
         return Ok(dir);
