@@ -202,8 +202,22 @@ run_step() {
     fi
 }
 
+# The golden vectors live in shared/golden beside the checkout. A clone made elsewhere (say
+# /tmp) finds them beside the repository it was cloned from, unless MESHFLOW_GOLDEN_DIR says.
+find_golden() {
+    [[ -n "${MESHFLOW_GOLDEN_DIR:-}" || -d "$ROOT/../shared/golden" ]] && return 0
+    local origin
+    origin="$(git -C "$ROOT" remote get-url origin 2>/dev/null || true)"
+    if [[ -n "$origin" && -d "$origin/../shared/golden" ]]; then
+        MESHFLOW_GOLDEN_DIR="$(cd "$origin/../shared/golden" && pwd)"
+        export MESHFLOW_GOLDEN_DIR
+        log "golden vectors: $MESHFLOW_GOLDEN_DIR (beside the clone's origin)"
+    fi
+}
+
 main() {
     log "repo: $ROOT"
+    find_golden
     log "CARGO_TARGET_DIR=$CARGO_TARGET_DIR"
     run_step install install_deps
     run_step fmt check_fmt
