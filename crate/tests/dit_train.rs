@@ -17,6 +17,8 @@ fn examples() -> Vec<LatentExample> {
                 .map(|i| [(i * 2) as f32, (k * 5) as f32, (31 - i) as f32])
                 .collect(),
             vertex_count: 20 + 10 * k,
+            merge_ratio: 2,
+            surface: Vec::new(),
         })
         .collect()
 }
@@ -79,7 +81,8 @@ fn flow_loss_falls_on_fixed_latents() {
         stop_at: None,
         last: 0,
     };
-    let (weights, steps, _) = train_dit(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
+    let (weights, steps, _) =
+        train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
     assert_eq!(steps, 150);
     let dit = meshflow::model::load_module(
         meshflow::model::dit::Dit::new(&cfg.model, &device),
@@ -106,19 +109,20 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
         stop_at: None,
         last: 0,
     };
-    let (a, _, _) = train_dit(&cfg, &data, &data, &a_dir, &device, &mut quiet).unwrap();
+    let (a, _, _) = train_dit(&cfg, None, &data, &data, &a_dir, &device, &mut quiet).unwrap();
     let b_dir = temp_dir("b");
     let mut stopping = Quiet {
         stop_at: Some(4),
         last: 0,
     };
-    let (_, partial, _) = train_dit(&cfg, &data, &data, &b_dir, &device, &mut stopping).unwrap();
+    let (_, partial, _) =
+        train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut stopping).unwrap();
     assert_eq!(partial, 4);
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let (b, steps, _) = train_dit(&cfg, &data, &data, &b_dir, &device, &mut quiet).unwrap();
+    let (b, steps, _) = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut quiet).unwrap();
     assert_eq!(steps, 8);
     let diff = |x: &meshflow::model::TensorMap, y: &meshflow::model::TensorMap| -> f32 {
         x.tensors
@@ -132,7 +136,7 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
             .fold(0.0, f32::max)
     };
     let c_dir = temp_dir("c");
-    let (c, _, _) = train_dit(&cfg, &data, &data, &c_dir, &device, &mut quiet).unwrap();
+    let (c, _, _) = train_dit(&cfg, None, &data, &data, &c_dir, &device, &mut quiet).unwrap();
     eprintln!(
         "straight vs straight {:e}, straight vs resumed {:e}",
         diff(&a, &c),
@@ -141,4 +145,101 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
     assert_eq!(a, b);
     let _ = std::fs::remove_dir_all(&a_dir);
     let _ = std::fs::remove_dir_all(&b_dir);
+}
+
+/// A sphere's surface samples (model frame) as a training example with 160 vertices merged 4
+/// to a token in a bucket of 64 tokens.
+fn sphere_example() -> LatentExample {
+    let mut rng = Rng::new(5);
+    let surface: Vec<glam::Vec3> = (0..2048)
+        .map(|_| {
+            let p = glam::Vec3::new(
+                rng.normal() as f32,
+                rng.normal() as f32,
+                rng.normal() as f32,
+            );
+            p.normalize() * 0.9
+        })
+        .collect();
+    LatentExample {
+        latents: vec![0.0; 64 * 8],
+        positions: (0..64).map(|i| [i as f32, 0.0, 0.0]).collect(),
+        vertex_count: 160,
+        merge_ratio: 4,
+        surface,
+    }
+}
+
+#[test]
+fn position_augment_draws_positions_as_inference_does() {
+    use meshflow::train::dit::PositionAugment;
+    let example = sphere_example();
+    let mut rng = Rng::new(1);
+    let never = PositionAugment {
+        probability: 0.0,
+        min_points: 256,
+        max_noise: 0.01,
+        missing_probability: 1.0,
+        max_missing: 0.4,
+    };
+    assert_eq!(never.positions(&example, &mut rng), example.positions);
+
+    // Without noise, every position is the voxel of one of the surface samples, one token per
+    // 4 vertices are distinct farthest points (the padding tokens repeat them).
+    let clean = PositionAugment {
+        probability: 1.0,
+        max_noise: 0.0,
+        missing_probability: 0.0,
+        ..never
+    };
+    let cells: std::collections::HashSet<[u32; 3]> = example
+        .surface
+        .iter()
+        .map(|&p| meshflow::voxel::voxel_index(p))
+        .collect();
+    for _ in 0..5 {
+        let positions = clean.positions(&example, &mut rng);
+        assert_eq!(positions.len(), example.positions.len());
+        for p in &positions {
+            assert!(
+                cells.contains(&p.map(|c| c as u32)),
+                "{p:?} is no sample's voxel"
+            );
+        }
+        let real: std::collections::HashSet<[u32; 3]> = positions[..40]
+            .iter()
+            .map(|p| p.map(|c| c as u32))
+            .collect();
+        assert_eq!(real.len(), 40, "farthest points fall in distinct voxels");
+    }
+
+    // A region missing: the tokens leave part of the sphere uncovered. Covering radius: the
+    // largest distance (in voxels) from a point of the sphere to its nearest token.
+    let partial = PositionAugment {
+        missing_probability: 1.0,
+        max_missing: 0.4,
+        ..clean
+    };
+    let covering = |augment: &PositionAugment, rng: &mut Rng| -> f32 {
+        let draws = 20;
+        let total: f32 = (0..draws)
+            .map(|_| {
+                let positions = augment.positions(&example, rng);
+                example.surface[..256]
+                    .iter()
+                    .map(|&s| {
+                        let c = meshflow::voxel::voxel_index(s).map(|c| c as f32);
+                        positions
+                            .iter()
+                            .map(|p| (0..3).map(|k| (p[k] - c[k]).powi(2)).sum::<f32>().sqrt())
+                            .fold(f32::INFINITY, f32::min)
+                    })
+                    .fold(0.0, f32::max)
+            })
+            .sum();
+        total / draws as f32
+    };
+    let (whole, cut) = (covering(&clean, &mut rng), covering(&partial, &mut rng));
+    eprintln!("covering radius {whole:.1} voxels clean, {cut:.1} with a region missing");
+    assert!(cut > 1.3 * whole, "{whole} -> {cut}");
 }

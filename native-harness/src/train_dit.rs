@@ -15,8 +15,9 @@ use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 use serde::Serialize;
 
 use crate::BadInput;
-use crate::train::{BarObserver, load_split, load_weights};
+use crate::train::{BarObserver, load_split, load_weights, read_shipped};
 use meshflow::dataset::Split;
+use meshflow::model::TensorMap;
 use meshflow::shipped::sha256_hex;
 
 #[derive(Args)]
@@ -41,6 +42,11 @@ pub struct TrainDitArgs {
     /// Stop after this many seconds of wall time (checkpointed, weights written).
     #[arg(long)]
     time_budget_s: Option<f64>,
+    /// Start from this folder's trained DiT (dit.safetensors, dit.manifest.json; same
+    /// configuration, trained on this VAE's latents) instead of a seeded initialisation: a
+    /// fine-tune.
+    #[arg(long)]
+    init: Option<PathBuf>,
 }
 
 /// What ships beside `dit.safetensors` (inference reads the fields of
@@ -57,6 +63,9 @@ struct DitManifest {
     /// Its latent space's identity (`meshflow::shipped::latent_space_sha256`), which a VAE
     /// with only its decoder fine-tuned shares.
     pub vae_latent_space_sha256: String,
+    /// The DiT the run started from (`--init`), when it did not start from scratch.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub init_sha256: Option<String>,
     /// The shard build's identity (sha256 of its manifest).
     pub data: String,
     pub train_examples: usize,
@@ -107,6 +116,24 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
     }
     cfg.validate()
         .map_err(|e| BadInput(format!("configuration: {e}")))?;
+    let init = match &args.init {
+        Some(dir) => {
+            // The checked load (sha256, shapes, the VAE's latent space) and the tensors come
+            // from the same bytes.
+            let (manifest_bytes, bytes) = read_shipped(dir, "dit")?;
+            let (_, manifest) =
+                meshflow::shipped::load_dit(&manifest_bytes, &bytes, &vae_manifest, &device)
+                    .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
+            if manifest.model != cfg.model {
+                bail!(BadInput(format!(
+                    "--init {}: its DiT configuration differs from the training configuration's",
+                    dir.display()
+                )));
+            }
+            Some((TensorMap::from_safetensors(&bytes, "")?, manifest.sha256))
+        }
+        None => None,
+    };
     let data = crate::data::shards_dir(args.data);
     let encode = |split| -> Result<_> {
         let meshes: Vec<_> = load_split(&data, split)?
@@ -134,8 +161,15 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
     );
     fs::create_dir_all(&args.out)?;
     let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
-    let (weights, steps, last_val) =
-        train_dit(&cfg, &train, &val, &args.out, &device, &mut observer)?;
+    let (weights, steps, last_val) = train_dit(
+        &cfg,
+        init.as_ref().map(|(map, _)| map),
+        &train,
+        &val,
+        &args.out,
+        &device,
+        &mut observer,
+    )?;
     observer.bar.finish();
     let bytes = weights.to_safetensors(None);
     let manifest = DitManifest {
@@ -146,6 +180,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         training: cfg.clone(),
         vae_sha256: vae_manifest.sha256.clone(),
         vae_latent_space_sha256: vae_manifest.latent_space_sha256.clone(),
+        init_sha256: init.as_ref().map(|(_, sha)| sha.clone()),
         data: crate::train::data_version(&data),
         train_examples: train.len(),
         final_validation_loss: last_val,

@@ -5,24 +5,33 @@
 //! ([`crate::condition::latent_positions`]) and its vertex count. A step draws `t` from a
 //! logit-normal (`sigmoid(N(0, 1))`), forms `x_t = (1 - t) x_0 + t eps` and regresses the
 //! velocity `eps - x_0` with mean squared error (docs/design.md section 2).
+//!
+//! Conditioning augmentation ([`PositionAugment`], issue 15 item 3): inference gives the
+//! tokens positions drawn from the user's points ([`crate::condition::inference_positions`]),
+//! which real scans make noisy, uneven and partial. With it, a share of the training examples
+//! get their positions the same way, from their own surface samples thinned, shifted by noise
+//! and with a region cut away, so the model learns from what it will be given.
 
 use std::collections::BTreeMap;
 use std::path::Path;
 
 use burn::optim::GradientsParams;
 use burn::tensor::{Device, Tensor, TensorData};
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
 use super::run::{Schedule, StepOutcome, Task, run_training};
 use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
-use crate::condition::{latent_positions, vertex_condition};
-use crate::model::dit::{Dit, DitConfig, Rope};
+use crate::condition::{inference_positions, latent_positions, vertex_condition};
+use crate::degrade::{Degradation, degrade};
+use crate::model::dit::{Dit, DitConfig, Rope, is_image_path};
 use crate::model::sampler::normal_noise;
 use crate::model::weights::{TensorMap, WeightsError};
-use crate::model::{MeshVae, Trace, VaeConfig, seeded_init};
+use crate::model::{MeshVae, Trace, VaeConfig, load_module, seeded_init};
 use crate::rng::Rng;
+use crate::sample::{sample_surface, subsample_points};
 use crate::tokens::build_tokens;
 use crate::train::vae::make_batch;
 
@@ -35,7 +44,15 @@ pub struct LatentExample {
     /// RoPE voxel position of each latent token.
     pub positions: Vec<[f32; 3]>,
     pub vertex_count: usize,
+    /// Vertices merged into one latent token (the VAE's `N / num_latents`).
+    pub merge_ratio: usize,
+    /// Surface samples of the mesh (model frame), which [`PositionAugment`] draws positions
+    /// from; empty when the example has none.
+    pub surface: Vec<Vec3>,
 }
+
+/// Surface samples kept per training mesh for [`PositionAugment`].
+pub const SURFACE_SAMPLES: usize = 2048;
 
 /// Encodes `meshes` (model frame, at most N vertices each; others are skipped) with `vae`
 /// and normalises by `mean`/`std` per channel.
@@ -50,38 +67,96 @@ pub fn encode_latents(
     let mut tokens: Vec<_> = meshes
         .iter()
         .enumerate()
-        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens_for(m.positions.len()), i as u64).ok())
+        .filter_map(|(i, m)| {
+            let t = build_tokens(m, &cfg.tokens_for(m.positions.len()), i as u64).ok()?;
+            Some((t, i))
+        })
         .collect();
     // One length per forward pass (length buckets); examples are sampled, so order is free.
-    tokens.sort_by_key(|t| t.mask.len());
+    tokens.sort_by_key(|(t, _)| t.mask.len());
     let d = cfg.latent_dim;
     let mut out = Vec::with_capacity(tokens.len());
     let chunks = tokens
-        .chunk_by(|a, b| a.mask.len() == b.mask.len())
+        .chunk_by(|(a, _), (b, _)| a.mask.len() == b.mask.len())
         .flat_map(|same| same.chunks(16));
     for chunk in chunks {
-        let l = chunk[0].mask.len() / cfg.merge_ratio();
-        let batch = make_batch(chunk, device);
+        let l = chunk[0].0.mask.len() / cfg.merge_ratio();
+        let chunk_tokens: Vec<_> = chunk.iter().map(|(t, _)| t.clone()).collect();
+        let batch = make_batch(&chunk_tokens, device);
         let z = vae.encode(batch.features, &mut Trace::default()).mean;
         let values = z
             .into_data()
             .convert::<f32>()
             .try_into_vec::<f32>()
             .expect("f32 latents");
-        for (k, t) in chunk.iter().enumerate() {
+        for (k, (t, mesh_index)) in chunk.iter().enumerate() {
             let latents = values[k * l * d..(k + 1) * l * d]
                 .iter()
                 .enumerate()
                 .map(|(i, &v)| (v - mean[i % d]) / std[i % d].max(1e-6))
                 .collect();
+            let surface = sample_surface(&meshes[*mesh_index], SURFACE_SAMPLES, *mesh_index as u64)
+                .map(|s| s.points)
+                .unwrap_or_default();
             out.push(LatentExample {
                 latents,
                 positions: latent_positions(t, cfg.merge_ratio()),
                 vertex_count: t.num_real,
+                merge_ratio: cfg.merge_ratio(),
+                surface,
             });
         }
     }
     out
+}
+
+/// Conditioning augmentation: how often and how badly a training example's token positions
+/// are drawn from a degraded copy of its surface (see the module doc).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PositionAugment {
+    /// Chance that an example's positions are drawn from its surface samples the way
+    /// inference draws them; otherwise they are its own vertices' ([`latent_positions`]).
+    pub probability: f64,
+    /// Fewest surface samples kept (uneven density): the count is drawn uniformly between
+    /// this and all [`SURFACE_SAMPLES`].
+    pub min_points: usize,
+    /// Largest noise: its standard deviation is drawn uniformly in `[0, max_noise]` (a fraction
+    /// of the bounding box's longest side, as [`Degradation::noise`]).
+    pub max_noise: f32,
+    /// Chance that a region is missing.
+    pub missing_probability: f64,
+    /// Largest missing fraction, drawn uniformly in `[0, max_missing]` ([`Degradation::missing`]).
+    pub max_missing: f32,
+}
+
+impl PositionAugment {
+    /// Token positions for `example`, drawn with `rng`: its own, or from its degraded surface.
+    pub fn positions(&self, example: &LatentExample, rng: &mut Rng) -> Vec<[f32; 3]> {
+        if example.surface.is_empty() || rng.next_f64() >= self.probability {
+            return example.positions.clone();
+        }
+        let all = example.surface.len();
+        let fewest = self.min_points.clamp(1, all);
+        let count = fewest + rng.below(all - fewest + 1);
+        let points = subsample_points(&example.surface, count, rng.next_u64());
+        let how = Degradation {
+            noise: rng.next_f32() * self.max_noise,
+            missing: if rng.next_f64() < self.missing_probability {
+                rng.next_f32() * self.max_missing
+            } else {
+                0.0
+            },
+        };
+        let points = degrade(&points, &how, rng.next_u64());
+        inference_positions(
+            &points,
+            example.vertex_count,
+            example.positions.len(),
+            example.merge_ratio,
+            rng.next_u64(),
+        )
+    }
 }
 
 /// Everything that defines a DiT training run.
@@ -100,6 +175,9 @@ pub struct DitTrainConfig {
     pub seed: u64,
     pub checkpoint_every: usize,
     pub eval_every: usize,
+    /// Conditioning augmentation; none when absent.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub augment: Option<PositionAugment>,
 }
 
 impl DitTrainConfig {
@@ -118,6 +196,7 @@ impl DitTrainConfig {
             seed: 0,
             checkpoint_every: 500,
             eval_every: 500,
+            augment: None,
         }
     }
 }
@@ -165,8 +244,10 @@ struct FlowBatch {
     rope: Rope,
 }
 
+/// `positions`: each example's token positions, one after the other.
 fn flow_batch(
     examples: &[&LatentExample],
+    positions: &[[f32; 3]],
     cfg: &DitConfig,
     rng: &mut Rng,
     device: &Device,
@@ -188,16 +269,12 @@ fn flow_batch(
         .iter()
         .map(|e| vertex_condition(e.vertex_count, cfg.num_latents))
         .collect();
-    let positions: Vec<[f32; 3]> = examples
-        .iter()
-        .flat_map(|e| e.positions.iter().copied())
-        .collect();
     FlowBatch {
         x_t,
         target: eps - x0,
         t,
         cond: Tensor::from_data(TensorData::new(cond, [b, 1]), device),
-        rope: Rope::new(&positions, b, cfg.width / cfg.num_heads, device),
+        rope: Rope::new(positions, b, cfg.width / cfg.num_heads, device),
     }
 }
 
@@ -229,7 +306,8 @@ pub fn validate_dit(
         .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
     for chunk in chunks {
         let refs: Vec<&LatentExample> = chunk.to_vec();
-        let batch = flow_batch(&refs, &cfg.model, &mut rng, device);
+        let positions: Vec<[f32; 3]> = refs.iter().flat_map(|e| e.positions.clone()).collect();
+        let batch = flow_batch(&refs, &positions, &cfg.model, &mut rng, device);
         sum += scalar(flow_loss(dit, &batch)) * chunk.len() as f64;
         n += chunk.len() as f64;
     }
@@ -242,6 +320,10 @@ pub struct DitValidation {
     pub step: usize,
     /// Flow-matching loss on fixed draws of t and noise.
     pub val_loss: f64,
+    /// The same with the token positions drawn as inference draws them, from clean surface
+    /// samples (fixed seeds): the condition the model meets in use.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub val_loss_inference_positions: Option<f64>,
 }
 
 /// The DiT's part of [`run_training`]: batches of one token count, flow matching.
@@ -251,6 +333,8 @@ struct DitTask<'a> {
     /// The training examples by token count.
     by_length: BTreeMap<usize, Vec<&'a LatentExample>>,
     val: &'a [LatentExample],
+    /// `val` with inference's token positions (examples without surface samples left out).
+    val_inference: Vec<LatentExample>,
     ad_device: Device,
     device: Device,
 }
@@ -277,7 +361,14 @@ impl Task for DitTask<'_> {
         let batch: Vec<&LatentExample> = std::iter::once(first)
             .chain((1..self.cfg.batch_size).map(|_| same[rng.below(same.len())]))
             .collect();
-        let fb = flow_batch(&batch, &self.cfg.model, rng, &self.ad_device);
+        let positions: Vec<[f32; 3]> = batch
+            .iter()
+            .flat_map(|e| match &self.cfg.augment {
+                Some(augment) => augment.positions(e, rng),
+                None => e.positions.clone(),
+            })
+            .collect();
+        let fb = flow_batch(&batch, &positions, &self.cfg.model, rng, &self.ad_device);
         let loss = flow_loss(&dit, &fb);
         let grads = GradientsParams::from_grads(loss.backward(), &dit);
         let (dit, grad_norm) = optim.step(optim_state, dit, grads, lr);
@@ -296,11 +387,20 @@ impl Task for DitTask<'_> {
         (!self.val.is_empty()).then(|| DitValidation {
             step,
             val_loss: validate_dit(dit, self.cfg, self.val, &self.device),
+            val_loss_inference_positions: (!self.val_inference.is_empty())
+                .then(|| validate_dit(dit, self.cfg, &self.val_inference, &self.device)),
         })
     }
 
     fn describe(v: &DitValidation) -> String {
-        format!("step {}: validation flow loss {:.4}", v.step, v.val_loss)
+        let inference = v
+            .val_loss_inference_positions
+            .map(|l| format!(" ({l:.4} with inference's positions)"))
+            .unwrap_or_default();
+        format!(
+            "step {}: validation flow loss {:.4}{inference}",
+            v.step, v.val_loss
+        )
     }
 }
 
@@ -309,10 +409,13 @@ impl Task for DitTask<'_> {
 pub struct NoPosition {}
 
 /// Trains the DiT on cached latents ([`run_training`]), with checkpoints and `metrics.jsonl`
-/// under `out_dir`; resumes from `out_dir/checkpoint` when its configuration matches. Returns
-/// the weights to ship (the EMA when enabled), the steps and the last validation loss.
+/// under `out_dir`; resumes from `out_dir/checkpoint` when its configuration matches. Starts
+/// from `init` (trained weights of the same configuration, to fine-tune) or a seeded
+/// initialisation. Returns the weights to ship (the EMA when enabled), the steps and the last
+/// validation loss.
 pub fn train_dit(
     cfg: &DitTrainConfig,
+    init: Option<&TensorMap>,
     train: &[LatentExample],
     val: &[LatentExample],
     out_dir: &Path,
@@ -337,12 +440,31 @@ pub fn train_dit(
         by_length.entry(e.positions.len()).or_default().push(e);
     }
     let ad_device = device.clone().autodiff();
-    let dit = seeded_init(Dit::new(&cfg.model, &ad_device), cfg.seed);
+    let mut dit = seeded_init(Dit::new(&cfg.model, &ad_device), cfg.seed);
+    if let Some(init) = init {
+        dit = load_module(dit, init, &is_image_path).map_err(TrainError::Weights)?;
+    }
+    let val_inference = val
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| !e.surface.is_empty())
+        .map(|(i, e)| LatentExample {
+            positions: inference_positions(
+                &e.surface,
+                e.vertex_count,
+                e.positions.len(),
+                e.merge_ratio,
+                i as u64,
+            ),
+            ..e.clone()
+        })
+        .collect();
     let mut task = DitTask {
         cfg,
         train,
         by_length,
         val,
+        val_inference,
         ad_device,
         device: device.clone(),
     };
