@@ -40,6 +40,10 @@ pub struct FitOptions {
     pub iterations: usize,
     /// Input points that define each vertex's local plane (at least 3 are used).
     pub neighbours: usize,
+    /// Each round first moves a vertex this fraction of the way to the centroid of its
+    /// neighbours along edges (0: none), evening out crumpled, crowded vertices before they
+    /// are projected.
+    pub smoothing: f32,
 }
 
 impl Default for FitOptions {
@@ -47,6 +51,7 @@ impl Default for FitOptions {
         Self {
             iterations: 3,
             neighbours: 8,
+            smoothing: 0.0,
         }
     }
 }
@@ -56,6 +61,7 @@ impl FitOptions {
     pub const OFF: Self = Self {
         iterations: 0,
         neighbours: 8,
+        smoothing: 0.0,
     };
 }
 
@@ -116,10 +122,23 @@ pub fn fit_to_points(
     report.mean_distance_before = mean_distance(positions);
     let pairs = face_pairs(faces);
     let k = opts.neighbours.max(3);
+    let ring = if opts.smoothing > 0.0 {
+        crate::topology::adjacency(vertices, &crate::topology::edges(faces))
+    } else {
+        vec![Vec::new(); vertices]
+    };
     for _ in 0..opts.iterations {
         let before = positions.to_vec();
-        for p in positions.iter_mut() {
-            *p = project(*p, &tree, k);
+        for (i, p) in positions.iter_mut().enumerate() {
+            let around = &ring[i];
+            let start = if around.is_empty() {
+                *p
+            } else {
+                let centroid =
+                    around.iter().map(|&j| before[j as usize]).sum::<Vec3>() / around.len() as f32;
+                *p + (centroid - *p) * opts.smoothing
+            };
+            *p = project(start, &tree, k);
         }
         report.held_back = hold_back_folds(positions, &before, faces, &pairs);
         report.iterations += 1;
@@ -285,6 +304,32 @@ mod tests {
             assert!((p.x - x).abs() < 1e-5 && (p.y - y).abs() < 1e-5, "{p}");
         }
         assert!(report.mean_distance_after < 1e-5);
+    }
+
+    #[test]
+    fn smoothing_evens_out_a_crowded_vertex_and_keeps_it_on_the_surface() {
+        // The centre vertex of the grid pushed next to a corner and lifted off the plane:
+        // smoothing draws it back towards its neighbours' centroid, the projection onto the
+        // plane; without smoothing it only lands on the plane where it is.
+        let points = grid_points(|_, _| 0.0);
+        let (mut crowded, faces) = square(|k| if k == 4 { 0.04 } else { 0.0 });
+        crowded[4] = Vec3::new(-0.35, -0.35, 0.04);
+        let mut plain = crowded.clone();
+        fit_to_points(&mut plain, &faces, &points, &FitOptions::default());
+        let smooth = FitOptions {
+            smoothing: 0.5,
+            ..FitOptions::default()
+        };
+        let report = fit_to_points(&mut crowded, &faces, &points, &smooth);
+        assert_eq!(report.held_back, 0);
+        assert!(crowded[4].z.abs() < 1e-5 && plain[4].z.abs() < 1e-5);
+        assert!((plain[4].x + 0.35).abs() < 1e-5, "{}", plain[4]);
+        assert!(
+            crowded[4].truncate().length() < 0.5 * plain[4].truncate().length(),
+            "{} vs {}",
+            crowded[4],
+            plain[4]
+        );
     }
 
     #[test]

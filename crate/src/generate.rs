@@ -509,6 +509,26 @@ impl Generator<'_> {
                     &opts.complete,
                     &opts.extract.manifold_options(),
                 );
+                // Refinement: the completed faces now hold the fit's fold test, so vertices
+                // the model's sparse faces held back can reach the surface, and the completed
+                // faces compete with the candidates around the moved vertices.
+                for _ in 0..opts.complete.refine_passes {
+                    let refit = FitOptions {
+                        smoothing: opts.complete.refine_smoothing,
+                        ..opts.fit
+                    };
+                    fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_points, &refit);
+                    let again = CompleteOptions {
+                        weld_ratio: 0.0,
+                        ..opts.complete
+                    };
+                    (mesh, _) = complete_surface(
+                        &mesh,
+                        &c.model_points,
+                        &again,
+                        &opts.extract.manifold_options(),
+                    );
+                }
                 if opts.extract.compact {
                     mesh.remove_unreferenced_vertices();
                 }

@@ -30,8 +30,13 @@
 //!    `max_hole_edges` edges is closed by ear clipping: of the ears `(h[i-1], h[i], h[i+1])`
 //!    that pass the tests of step 2 and repeat no existing face (the border of a lone triangle
 //!    is a 3-loop), the one whose normal best agrees with its neighbours' is added and `h[i]`
-//!    leaves the loop, until it is closed; when no ear passes, the loop stays open and
-//!    nothing of it is added.
+//!    leaves the loop, until it is closed. Faces are wound by now, so an ear's overlap test
+//!    counts only faces facing its way (the far side of a thin part faces away and is no
+//!    second layer). When no ear passes, the usual cause is a face next to the hole folded
+//!    over it: for each hole edge in turn, the face on it is taken off (when its other two
+//!    edges have two faces each, so the hole grows by one vertex, not into another hole) and
+//!    the grown loop is clipped the same way; if that fails too the face goes back, and the
+//!    loop stays open with nothing added.
 //! 4. **Drop small pieces.** Pieces of faces joined through shared edges with fewer than
 //!    `min_component_faces` faces are removed (with 2, the triangles that touch the rest at
 //!    a vertex at most: each would be a hole of its own).
@@ -252,7 +257,9 @@ enum Refusal {
 /// each walks it (`true`: from the smaller vertex to the larger).
 struct Surface<'a> {
     positions: &'a [Vec3],
+    /// Every face ever added, by id; `alive[id]` is false once removed.
     faces: Vec<[u32; 3]>,
+    alive: Vec<bool>,
     face_normals: Vec<Vec3>,
     on_edge: HashMap<Edge, [Option<(u32, bool)>; 2]>,
     vertex_sets: HashSet<[u32; 3]>,
@@ -264,10 +271,11 @@ impl<'a> Surface<'a> {
         Self {
             positions,
             faces: Vec::new(),
+            alive: Vec::new(),
             face_normals: Vec::new(),
             on_edge: HashMap::new(),
             vertex_sets: HashSet::new(),
-            layers: FaceLayers::new(overlap_tolerance),
+            layers: FaceLayers::oriented(overlap_tolerance),
         }
     }
 
@@ -314,13 +322,22 @@ impl<'a> Surface<'a> {
         self.vertex_sets.insert(sorted_face(face));
         self.layers.insert(self.positions, face);
         self.faces.push(face);
+        self.alive.push(true);
     }
 
     /// Removes the most recently added face (to undo a partly filled hole).
     fn pop(&mut self) {
-        let face = self.faces.pop().expect("a face to pop");
-        let id = self.faces.len() as u32;
+        let id = self.faces.len() as u32 - 1;
+        self.remove(id);
+        self.faces.pop();
+        self.alive.pop();
         self.face_normals.pop();
+    }
+
+    /// Takes face `id` off the surface (its slot stays, marked dead).
+    fn remove(&mut self, id: u32) {
+        let face = self.faces[id as usize];
+        self.alive[id as usize] = false;
         self.vertex_sets.remove(&sorted_face(face));
         self.layers.remove(self.positions, face);
         for e in topology::face_edges(face) {
@@ -332,8 +349,19 @@ impl<'a> Surface<'a> {
             }
             if slots.iter().all(Option::is_none) {
                 self.on_edge.remove(&e);
+            } else if slots[0].is_none() {
+                slots.swap(0, 1);
             }
         }
+    }
+
+    /// The faces on the surface.
+    fn alive_faces(&self) -> impl Iterator<Item = [u32; 3]> + '_ {
+        self.faces
+            .iter()
+            .zip(&self.alive)
+            .filter(|(_, alive)| **alive)
+            .map(|(f, _)| *f)
     }
 
     /// The holes: every edge with one face, walked against that face, chained into loops. At a
@@ -397,6 +425,7 @@ impl<'a> Surface<'a> {
         for hole in self.hole_loops() {
             let filled = if max_hole_edges >= 3 && hole.len() <= max_hole_edges {
                 self.fill(&hole)
+                    .or_else(|| self.fill_without_a_neighbour(&hole))
             } else {
                 None
             };
@@ -447,6 +476,44 @@ impl<'a> Surface<'a> {
             }
         }
         Some(added)
+    }
+}
+
+impl Surface<'_> {
+    /// Step 3 when no ear closes `hole`: usually a face next to it folds over it (fitting
+    /// moved the vertices under it). For each hole edge `(a, b)` in turn, the face on it,
+    /// `(b, a, x)`, is taken off when its two other edges have two faces each, so the hole grows
+    /// to `a, x, b` and loses that face; if the grown hole closes, the face is replaced,
+    /// otherwise it goes back. Returns the faces added (net of the one removed).
+    fn fill_without_a_neighbour(&mut self, hole: &[u32]) -> Option<usize> {
+        let n = hole.len();
+        for i in 0..n {
+            let (a, b) = (hole[i], hole[(i + 1) % n]);
+            let Some(&[Some((g, _)), None]) = self.on_edge.get(&[a.min(b), a.max(b)]) else {
+                continue;
+            };
+            let face = self.faces[g as usize];
+            let Some(&x) = face.iter().find(|&&v| v != a && v != b) else {
+                continue;
+            };
+            let two_faces = |u: u32, v: u32| {
+                matches!(
+                    self.on_edge.get(&[u.min(v), u.max(v)]),
+                    Some([Some(_), Some(_)])
+                )
+            };
+            if hole.contains(&x) || !two_faces(a, x) || !two_faces(x, b) {
+                continue;
+            }
+            self.remove(g);
+            let mut grown = hole.to_vec();
+            grown.insert(i + 1, x);
+            if let Some(added) = self.fill(&grown) {
+                return Some(added - 1);
+            }
+            self.add(face);
+        }
+        None
     }
 }
 
@@ -507,7 +574,7 @@ pub fn manifold_faces(
     (report.holes_filled, report.hole_faces, report.holes_left) =
         (holes.filled, holes.faces, holes.left);
 
-    let mut faces: Vec<[u32; 3]> = surface.faces.iter().map(|&f| rotate_min_first(f)).collect();
+    let mut faces: Vec<[u32; 3]> = surface.alive_faces().map(rotate_min_first).collect();
     faces.sort_unstable();
     if opts.min_component_faces > 1 {
         let (labels, count) = edge_pieces(&faces);

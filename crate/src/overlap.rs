@@ -32,6 +32,10 @@ const PARALLEL_COS: f32 = 0.5;
 pub struct FaceLayers {
     tree: RTree<Boxed>,
     tolerance: f32,
+    /// Count only faces wound the same way (normals within 60 degrees, not either
+    /// orientation): for faces whose windings are final, where the far side of a thin part
+    /// faces away and is no second layer.
+    oriented: bool,
 }
 
 impl FaceLayers {
@@ -41,6 +45,16 @@ impl FaceLayers {
         Self {
             tree: RTree::new(),
             tolerance,
+            oriented: false,
+        }
+    }
+
+    /// [`FaceLayers::new`] for wound faces: a face facing the other way is not on the same
+    /// layer (the far side of a thin part).
+    pub fn oriented(tolerance: f32) -> Self {
+        Self {
+            oriented: true,
+            ..Self::new(tolerance)
         }
     }
 
@@ -91,7 +105,8 @@ impl FaceLayers {
                 if g.iter().filter(|v| face.contains(v)).count() >= 2 {
                     return false;
                 }
-                if unit_normal(positions, g).dot(normal).abs() < PARALLEL_COS {
+                let cos = unit_normal(positions, g).dot(normal);
+                if (if self.oriented { cos } else { cos.abs() }) < PARALLEL_COS {
                     return false;
                 }
                 let corners = g.map(|v| positions[v as usize]);

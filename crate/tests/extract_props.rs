@@ -185,7 +185,8 @@ proptest! {
     #[test]
     fn completion_keeps_the_surface_manifold_and_consistently_wound(
         kind in 0u8..2, size in 1u32..4, jitter in 0.0f32..0.1, delete in 0u64..90,
-        gap in 1.0f32..10.0, tolerance in 0.0f32..1.0, seed in any::<u64>()
+        gap in 1.0f32..10.0, tolerance in 0.0f32..1.0, first in any::<bool>(),
+        priority in 0.0f32..3.0, slope in 0.2f32..1.0, voted in any::<bool>(), seed in any::<u64>()
     ) {
         // A lace: a perturbed mesh with most faces deleted, completed against points sampled
         // from the whole mesh.
@@ -196,6 +197,9 @@ proptest! {
         let opts = meshflow::complete::CompleteOptions {
             max_gap: gap,
             overlap_tolerance: tolerance,
+            model_priority: if first { f32::INFINITY } else { priority },
+            max_slope: slope,
+            require_vote: voted,
             ..Default::default()
         };
         let manifold = meshflow::manifold::ManifoldOptions {

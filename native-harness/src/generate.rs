@@ -99,6 +99,24 @@ pub struct SamplingArgs {
     /// Completion: keep the model's faces even where they leave the input surface.
     #[arg(long)]
     keep_off_surface: bool,
+    /// Completion: how far ahead of new triangles the model's faces rank, in local Delaunay
+    /// votes (inf: all first).
+    #[arg(long, default_value_t = CompleteOptions::default().model_priority)]
+    complete_model_priority: f32,
+    /// Completion: the local Delaunay test leaves out neighbours farther out of a vertex's
+    /// tangent plane than this sine (1: none).
+    #[arg(long, default_value_t = CompleteOptions::default().max_slope)]
+    complete_max_slope: f32,
+    /// Completion: rounds of fitting and completing again afterwards.
+    #[arg(long, default_value_t = CompleteOptions::default().refine_passes)]
+    complete_passes: usize,
+    /// Completion: how far each vertex moves towards its neighbours' centroid in those rounds'
+    /// fits (0 to 1).
+    #[arg(long, default_value_t = CompleteOptions::default().refine_smoothing)]
+    complete_smoothing: f32,
+    /// Completion: also offer triangles no vertex's local Delaunay triangulation has.
+    #[arg(long)]
+    complete_unvoted: bool,
     /// Completion: nearest vertices each vertex may make a new face with.
     #[arg(long, default_value_t = CompleteOptions::default().neighbours)]
     complete_neighbours: usize,
@@ -121,6 +139,7 @@ impl SamplingArgs {
                 FitOptions {
                     iterations: self.fit_iterations,
                     neighbours: self.fit_neighbours,
+                    ..FitOptions::default()
                 }
             },
             complete: CompleteOptions {
@@ -132,6 +151,11 @@ impl SamplingArgs {
                 max_hole_edges: self.complete_hole_edges,
                 weld_ratio: self.complete_weld,
                 overlap_tolerance: self.complete_overlap,
+                model_priority: self.complete_model_priority,
+                max_slope: self.complete_max_slope,
+                refine_passes: self.complete_passes,
+                refine_smoothing: self.complete_smoothing,
+                require_vote: !self.complete_unvoted,
                 ..CompleteOptions::default()
             },
         }
