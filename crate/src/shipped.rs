@@ -36,7 +36,36 @@ pub enum ShippedError {
     },
 }
 
-/// What inference reads from `vae.manifest.json` (other fields are provenance).
+/// How weights were made, as `meshflow train vae|dit` records it in their manifest: for
+/// people and for reproducing a run; inference reads none of it, and every field may be
+/// absent.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(default)]
+pub struct Provenance {
+    /// Scalars in the weights.
+    pub parameters: usize,
+    /// The command line that trained them.
+    pub command: String,
+    /// The training configuration (the schema of `weights/vae.train.json` or
+    /// `weights/dit.train.json`).
+    pub training: serde_json::Value,
+    /// The weights a fine-tune started from (`--init`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub init_sha256: Option<String>,
+    /// The shard build's identity (sha256 of its manifest).
+    pub data: String,
+    /// Training examples (meshes that fit the model).
+    #[serde(alias = "train_meshes")]
+    pub train_examples: usize,
+    /// The last validation record of the run.
+    pub final_validation: serde_json::Value,
+    pub wall_time_s: f64,
+    pub machine: String,
+    pub backend: String,
+}
+
+/// `vae.manifest.json`: what inference reads (configuration, checksum, latent statistics) and
+/// the weights' [`Provenance`]. `meshflow train vae` writes it; [`load_vae`] reads it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct VaeManifest {
     pub model: VaeConfig,
@@ -47,9 +76,12 @@ pub struct VaeManifest {
     /// [`latent_space_sha256`] of the loaded weights (computed by [`load_vae`], not read).
     #[serde(skip)]
     pub latent_space_sha256: String,
+    #[serde(flatten)]
+    pub provenance: Provenance,
 }
 
-/// What inference reads from `dit.manifest.json`.
+/// `dit.manifest.json`: what inference reads (configuration, checksum, the VAE it belongs to)
+/// and the weights' [`Provenance`]. `meshflow train dit` writes it; [`load_dit`] reads it.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct DitManifest {
     pub model: DitConfig,
@@ -61,6 +93,8 @@ pub struct DitManifest {
     /// it. Absent in manifests written before it existed.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub vae_latent_space_sha256: Option<String>,
+    #[serde(flatten)]
+    pub provenance: Provenance,
 }
 
 /// Whether a VAE tensor belongs to the encoder side (encoder and the pre-KL projection): the
@@ -169,4 +203,38 @@ pub fn load_dit(
     let dit = load_module(Dit::new(&m.model, device), &map, &is_image_path)
         .map_err(|source| ShippedError::Weights { what, source })?;
     Ok((dit, m))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn shipped(name: &str) -> Vec<u8> {
+        let path = format!("{}/../weights/{name}", env!("CARGO_MANIFEST_DIR"));
+        std::fs::read(path).expect("the shipped weights")
+    }
+
+    /// The one manifest type reads what training wrote (the shipped files, whose older VAE
+    /// field `train_meshes` is an alias) and writes back what it read.
+    #[test]
+    fn shipped_manifests_round_trip_with_their_provenance() {
+        let vae: VaeManifest = serde_json::from_slice(&shipped("vae.manifest.json")).unwrap();
+        let dit: DitManifest = serde_json::from_slice(&shipped("dit.manifest.json")).unwrap();
+        for p in [&vae.provenance, &dit.provenance] {
+            assert!(p.parameters > 0 && p.train_examples > 0 && p.wall_time_s > 0.0);
+            assert!(p.command.contains("meshflow train"), "{}", p.command);
+            assert!(
+                p.training
+                    .get("steps")
+                    .is_some_and(|s| s.as_u64() > Some(0))
+            );
+        }
+        assert_eq!(vae.latent_mean.len(), vae.model.latent_dim);
+        let again: VaeManifest =
+            serde_json::from_str(&serde_json::to_string(&vae).unwrap()).unwrap();
+        assert_eq!(again, vae);
+        let again: DitManifest =
+            serde_json::from_str(&serde_json::to_string(&dit).unwrap()).unwrap();
+        assert_eq!(again, dit);
+    }
 }

@@ -13,11 +13,11 @@ use meshflow::Mesh;
 use meshflow::dataset::Split;
 use meshflow::device::{BackendKind, device};
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
-use meshflow::shipped::{VaeManifest, sha256_hex};
+use meshflow::shipped::{Provenance, VaeManifest, sha256_hex};
 use meshflow::tokens::build_tokens;
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae_from};
-use serde::{Deserialize, Serialize};
+use serde::Serialize;
 
 use crate::BadInput;
 use crate::data::{load_meshes, read_manifest};
@@ -328,28 +328,6 @@ impl TrainObserver for BarObserver {
     }
 }
 
-/// What ships beside `vae.safetensors`.
-#[derive(Serialize, Deserialize)]
-pub struct WeightsManifest {
-    pub model: VaeConfig,
-    pub sha256: String,
-    pub parameters: usize,
-    pub command: String,
-    pub training: VaeTrainConfig,
-    /// The VAE the run started from (`--init`), when it did not start from scratch.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub init_sha256: Option<String>,
-    pub data: String,
-    pub train_meshes: usize,
-    pub wall_time_s: f64,
-    pub machine: String,
-    pub backend: String,
-    /// Per latent channel, over the posterior means of the training meshes.
-    pub latent_mean: Vec<f32>,
-    pub latent_std: Vec<f32>,
-    pub final_validation: Option<serde_json::Value>,
-}
-
 pub fn machine_description() -> String {
     let cpu = fs::read_to_string("/proc/cpuinfo")
         .ok()
@@ -512,24 +490,24 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     write_weights(
         &args.out,
         &bytes,
-        &WeightsManifest {
+        &VaeManifest {
             model: cfg.model.clone(),
             sha256: sha256_hex(&bytes),
-            parameters: trained.weights.tensors.values().map(|(_, v)| v.len()).sum(),
-            command: std::env::args().collect::<Vec<_>>().join(" "),
-            training: cfg.clone(),
-            init_sha256: init.as_ref().map(|(_, m)| m.sha256.clone()),
-            data: data_version(&data),
-            train_meshes: train.len(),
-            wall_time_s: wall,
-            machine: machine_description(),
-            backend: args.backend.name().into(),
             latent_mean,
             latent_std,
-            final_validation: trained
-                .last_val
-                .as_ref()
-                .map(|v| serde_json::to_value(v).expect("serialisable")),
+            latent_space_sha256: String::new(),
+            provenance: Provenance {
+                parameters: trained.weights.tensors.values().map(|(_, v)| v.len()).sum(),
+                command: std::env::args().collect::<Vec<_>>().join(" "),
+                training: serde_json::to_value(&cfg)?,
+                init_sha256: init.as_ref().map(|(_, m)| m.sha256.clone()),
+                data: data_version(&data),
+                train_examples: train.len(),
+                final_validation: serde_json::to_value(&trained.last_val)?,
+                wall_time_s: wall,
+                machine: machine_description(),
+                backend: args.backend.name().into(),
+            },
         },
     )?;
     println!(
@@ -551,7 +529,7 @@ pub fn data_version(dir: &Path) -> String {
 
 /// Each file whole or not at all; the manifest last, so a manifest never names weights that
 /// are not there yet.
-fn write_weights(dir: &Path, bytes: &[u8], manifest: &WeightsManifest) -> Result<()> {
+fn write_weights(dir: &Path, bytes: &[u8], manifest: &VaeManifest) -> Result<()> {
     use meshflow::io::write_atomic;
     write_atomic(&dir.join("vae.safetensors"), bytes)?;
     write_atomic(

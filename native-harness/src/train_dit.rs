@@ -12,13 +12,12 @@ use meshflow::device::{BackendKind, device};
 use meshflow::io::write_atomic;
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
-use serde::Serialize;
 
 use crate::BadInput;
 use crate::train::{BarObserver, load_split, load_weights, read_shipped};
 use meshflow::dataset::Split;
 use meshflow::model::TensorMap;
-use meshflow::shipped::sha256_hex;
+use meshflow::shipped::{DitManifest, Provenance, sha256_hex};
 
 #[derive(Args)]
 pub struct TrainDitArgs {
@@ -47,32 +46,6 @@ pub struct TrainDitArgs {
     /// fine-tune.
     #[arg(long)]
     init: Option<PathBuf>,
-}
-
-/// What ships beside `dit.safetensors` (inference reads the fields of
-/// [`meshflow::shipped::DitManifest`]).
-#[derive(Serialize)]
-struct DitManifest {
-    pub model: DitConfig,
-    pub sha256: String,
-    pub parameters: usize,
-    pub command: String,
-    pub training: DitTrainConfig,
-    /// The VAE whose latents the DiT was trained on.
-    pub vae_sha256: String,
-    /// Its latent space's identity (`meshflow::shipped::latent_space_sha256`), which a VAE
-    /// with only its decoder fine-tuned shares.
-    pub vae_latent_space_sha256: String,
-    /// The DiT the run started from (`--init`), when it did not start from scratch.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub init_sha256: Option<String>,
-    /// The shard build's identity (sha256 of its manifest).
-    pub data: String,
-    pub train_examples: usize,
-    pub final_validation_loss: Option<f64>,
-    pub wall_time_s: f64,
-    pub machine: String,
-    pub backend: String,
 }
 
 /// The shipped DiT's training configuration (`weights/dit.train.json`; a unit test keeps the
@@ -175,18 +148,20 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
     let manifest = DitManifest {
         model: cfg.model.clone(),
         sha256: sha256_hex(&bytes),
-        parameters: weights.tensors.values().map(|(_, v)| v.len()).sum(),
-        command: std::env::args().collect::<Vec<_>>().join(" "),
-        training: cfg.clone(),
         vae_sha256: vae_manifest.sha256.clone(),
-        vae_latent_space_sha256: vae_manifest.latent_space_sha256.clone(),
-        init_sha256: init.as_ref().map(|(_, sha)| sha.clone()),
-        data: crate::train::data_version(&data),
-        train_examples: train.len(),
-        final_validation_loss: last_val,
-        wall_time_s: started.elapsed().as_secs_f64(),
-        machine: crate::train::machine_description(),
-        backend: args.backend.name().into(),
+        vae_latent_space_sha256: Some(vae_manifest.latent_space_sha256.clone()),
+        provenance: Provenance {
+            parameters: weights.tensors.values().map(|(_, v)| v.len()).sum(),
+            command: std::env::args().collect::<Vec<_>>().join(" "),
+            training: serde_json::to_value(&cfg)?,
+            init_sha256: init.as_ref().map(|(_, sha)| sha.clone()),
+            data: crate::train::data_version(&data),
+            train_examples: train.len(),
+            final_validation: serde_json::json!({ "val_loss": last_val }),
+            wall_time_s: started.elapsed().as_secs_f64(),
+            machine: crate::train::machine_description(),
+            backend: args.backend.name().into(),
+        },
     };
     // Each file whole or not at all; the manifest last, so a manifest never names weights
     // that are not there yet.

@@ -294,7 +294,7 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     let manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(run.join("vae.manifest.json")).unwrap()).unwrap();
     assert_eq!(
-        manifest["train_meshes"], 32,
+        manifest["train_examples"], 32,
         "every fixture train mesh fits N = 512"
     );
     assert_eq!(manifest["latent_mean"].as_array().unwrap().len(), 8);
@@ -544,7 +544,7 @@ fn train_dit_on_latents_of_the_shipped_vae() {
         serde_json::from_slice(&std::fs::read(run.join("dit.manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["train_examples"], 32);
     assert!(
-        manifest["final_validation_loss"]
+        manifest["final_validation"]["val_loss"]
             .as_f64()
             .unwrap()
             .is_finite()
