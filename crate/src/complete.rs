@@ -93,7 +93,7 @@ pub struct CompleteOptions {
     /// when smaller): with the vertices on the surface, longer loops close cleanly.
     pub max_hole_edges: usize,
     /// How far ahead of the candidates the model's faces are ranked, in local Delaunay votes:
-    /// infinite puts every model face first; a finite value ranks each model face like a
+    /// +infinity puts every model face first; any other value ranks each model face like a
     /// candidate (by its votes and perimeter) with this many votes added.
     pub model_priority: f32,
     /// The local Delaunay test at a vertex leaves out neighbours farther out of its tangent
@@ -259,7 +259,7 @@ pub fn complete_surface(
     let mut scores: Vec<f32> = model_faces
         .iter()
         .map(|&f| {
-            if opts.model_priority.is_infinite() {
+            if opts.model_priority == f32::INFINITY {
                 return f32::MAX;
             }
             let corners = f.map(|v| positions[v as usize]);

@@ -9,6 +9,9 @@
 //!    local plane (their centroid and the direction of least spread, the smallest eigenvector of
 //!    their covariance); the target is the vertex projected onto that plane. Only the offset
 //!    across the surface is corrected, so vertices do not bunch up on the nearest samples.
+//!    With `smoothing` above 0 the vertex is first moved that fraction of the way to the
+//!    centroid of its neighbours along edges, and that point is projected: crowded vertices
+//!    spread out along the surface.
 //! 2. **Move, unless it folds.** Every vertex moves to its target; then any face whose normal
 //!    turned by 90 degrees or more, or that lost its area, and any pair of faces on an edge that
 //!    now close onto each other ([`crate::manifold::FOLD_COS`]) when they did not before,

@@ -57,7 +57,9 @@ pub struct Provenance {
     /// Training examples (meshes that fit the model).
     #[serde(alias = "train_meshes")]
     pub train_examples: usize,
-    /// The last validation record of the run.
+    /// The last validation record of the run (in DiT manifests written before this field, its
+    /// flow loss alone).
+    #[serde(alias = "final_validation_loss")]
     pub final_validation: serde_json::Value,
     pub wall_time_s: f64,
     pub machine: String,

@@ -157,7 +157,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
             init_sha256: init.as_ref().map(|(_, sha)| sha.clone()),
             data: crate::train::data_version(&data),
             train_examples: train.len(),
-            final_validation: serde_json::json!({ "val_loss": last_val }),
+            final_validation: serde_json::to_value(&last_val)?,
             wall_time_s: started.elapsed().as_secs_f64(),
             machine: crate::train::machine_description(),
             backend: args.backend.name().into(),

@@ -412,7 +412,7 @@ pub struct NoPosition {}
 /// under `out_dir`; resumes from `out_dir/checkpoint` when its configuration matches. Starts
 /// from `init` (trained weights of the same configuration, to fine-tune) or a seeded
 /// initialisation. Returns the weights to ship (the EMA when enabled), the steps and the last
-/// validation loss.
+/// validation record.
 pub fn train_dit(
     cfg: &DitTrainConfig,
     init: Option<&TensorMap>,
@@ -421,7 +421,7 @@ pub fn train_dit(
     out_dir: &Path,
     device: &Device,
     observer: &mut dyn TrainObserver,
-) -> Result<(TensorMap, usize, Option<f64>), TrainError> {
+) -> Result<(TensorMap, usize, Option<DitValidation>), TrainError> {
     cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
     let d = cfg.model.latent_dim;
@@ -477,6 +477,5 @@ pub fn train_dit(
         device,
         observer,
     )?;
-    let last = trained.last_validation.map(|v| v.val_loss);
-    Ok((trained.weights, trained.steps, last))
+    Ok((trained.weights, trained.steps, trained.last_validation))
 }
