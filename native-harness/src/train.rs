@@ -489,7 +489,9 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     let bytes = trained.weights.to_safetensors(None);
     write_weights(
         &args.out,
+        "vae",
         &bytes,
+        &cfg.model,
         &VaeManifest {
             model: cfg.model.clone(),
             sha256: sha256_hex(&bytes),
@@ -527,17 +529,24 @@ pub fn data_version(dir: &Path) -> String {
     }
 }
 
-/// Each file whole or not at all; the manifest last, so a manifest never names weights that
-/// are not there yet.
-fn write_weights(dir: &Path, bytes: &[u8], manifest: &VaeManifest) -> Result<()> {
+/// Writes `dir/NAME.safetensors`, `NAME.json` (the model configuration) and
+/// `NAME.manifest.json`, each file whole or not at all; the manifest last, so a manifest never
+/// names weights that are not there yet.
+pub fn write_weights(
+    dir: &Path,
+    name: &str,
+    bytes: &[u8],
+    model: &impl Serialize,
+    manifest: &impl Serialize,
+) -> Result<()> {
     use meshflow::io::write_atomic;
-    write_atomic(&dir.join("vae.safetensors"), bytes)?;
+    write_atomic(&dir.join(format!("{name}.safetensors")), bytes)?;
     write_atomic(
-        &dir.join("vae.json"),
-        serde_json::to_string_pretty(&manifest.model)?.as_bytes(),
+        &dir.join(format!("{name}.json")),
+        serde_json::to_string_pretty(model)?.as_bytes(),
     )?;
     write_atomic(
-        &dir.join("vae.manifest.json"),
+        &dir.join(format!("{name}.manifest.json")),
         serde_json::to_string_pretty(manifest)?.as_bytes(),
     )?;
     Ok(())

@@ -9,12 +9,11 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use clap::Args;
 use meshflow::device::{BackendKind, device};
-use meshflow::io::write_atomic;
 use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 
 use crate::BadInput;
-use crate::train::{BarObserver, load_split, load_weights, read_shipped};
+use crate::train::{BarObserver, load_split, load_weights, read_shipped, write_weights};
 use meshflow::dataset::Split;
 use meshflow::model::TensorMap;
 use meshflow::shipped::{DitManifest, Provenance, sha256_hex};
@@ -163,17 +162,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
             backend: args.backend.name().into(),
         },
     };
-    // Each file whole or not at all; the manifest last, so a manifest never names weights
-    // that are not there yet.
-    write_atomic(&args.out.join("dit.safetensors"), &bytes)?;
-    write_atomic(
-        &args.out.join("dit.json"),
-        serde_json::to_string_pretty(&cfg.model)?.as_bytes(),
-    )?;
-    write_atomic(
-        &args.out.join("dit.manifest.json"),
-        serde_json::to_string_pretty(&manifest)?.as_bytes(),
-    )?;
+    write_weights(&args.out, "dit", &bytes, &cfg.model, &manifest)?;
     println!(
         "{steps} steps -> {}",
         args.out.join("dit.safetensors").display()
