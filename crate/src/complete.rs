@@ -286,7 +286,7 @@ pub fn complete_surface(
         .filter(|f| !kept.contains(&sorted_face(**f)))
         .count();
     report.added = kept.iter().filter(|f| !existing.contains(*f)).count();
-    if chosen.len() < mesh.faces.len() / 2 {
+    if chosen.len() * 2 < mesh.faces.len() {
         // The points disagree with most of the model's surface (far denser or sparser than
         // the vertices, or elsewhere): keep what the model made rather than lose it.
         report.kept_model_surface = true;
