@@ -30,7 +30,8 @@
 //!    `max_hole_edges` edges is closed by ear clipping: of the ears `(h[i-1], h[i], h[i+1])`
 //!    that pass the tests of step 2 and repeat no existing face (the border of a lone triangle
 //!    is a 3-loop), the one whose normal best agrees with its neighbours' is added and `h[i]`
-//!    leaves the loop, until it is closed. Faces are wound by now, so an ear's overlap test
+//!    leaves the loop, until it is closed; when the rest cannot be closed, the last ear is
+//!    taken back and the next best tried (a bounded depth-first search). Faces are wound by now, so an ear's overlap test
 //!    counts only faces facing its way (the far side of a thin part faces away and is no
 //!    second layer). When no ear passes, the usual cause is a face next to the hole folded
 //!    over it: for each hole edge in turn, the face on it is taken off (when its other two
@@ -61,6 +62,10 @@ use crate::topology::{self, Edge, rotate_min_first, sorted_face};
 /// real meshes, which stay above it (the extraction of the test split's ground-truth edges
 /// loses no face to it; `meshflow extract`).
 pub const FOLD_COS: f32 = -0.8;
+
+/// Ears a hole's search may try before the hole is left open ([`Surface::fill`]): enough
+/// for every clipping order of the small loops, a bound on the long ones.
+const FILL_ATTEMPTS: usize = 256;
 
 /// Options of [`manifold_faces`].
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -440,42 +445,53 @@ impl<'a> Surface<'a> {
         done
     }
 
-    /// Step 3 for one hole (its vertices in hole order): ears `(h[i-1], h[i], h[i+1])` are
-    /// added smoothest first until the hole is closed; if at some point no ear passes the
-    /// tests of step 2, nothing is added.
+    /// Step 3 for one hole (its vertices in hole order): ears `(h[i-1], h[i], h[i+1])` that
+    /// pass the tests of step 2 are added smoothest first, and `h[i]` leaves the loop, until
+    /// it is closed. When no ear passes partway, the last ear is taken back and the next best
+    /// tried instead (a depth-first search over the clipping orders, at most
+    /// [`FILL_ATTEMPTS`] ears a hole), since a greedy first ear often leaves a remainder that
+    /// only folds; if none closes it, nothing is added.
     fn fill(&mut self, hole: &[u32]) -> Option<usize> {
         let mut poly = hole.to_vec();
-        let mut added = 0;
-        while poly.len() >= 3 {
-            let len = poly.len();
-            let mut best: Option<(f32, usize)> = None;
-            for i in 0..len {
-                let ear = [poly[(i + len - 1) % len], poly[i], poly[(i + 1) % len]];
+        let mut attempts = FILL_ATTEMPTS;
+        self.clip(&mut poly, &mut attempts).then(|| hole.len() - 2)
+    }
+
+    /// The search of [`Surface::fill`]: closes `poly` with ears, or leaves the surface as it
+    /// found it and returns false.
+    fn clip(&mut self, poly: &mut Vec<u32>, attempts: &mut usize) -> bool {
+        let len = poly.len();
+        if len < 3 {
+            return true;
+        }
+        let ear_at =
+            |poly: &[u32], i: usize| [poly[(i + len - 1) % len], poly[i], poly[(i + 1) % len]];
+        let mut ears: Vec<(f32, usize)> = (0..len)
+            .filter_map(|i| {
+                let ear = ear_at(poly, i);
                 let usable = ear[0] != ear[2]
                     && self.unit_normal(ear) != Vec3::ZERO
                     && !self.vertex_sets.contains(&sorted_face(ear))
                     && self.check(ear).is_ok();
-                if usable {
-                    let score = self.smoothness(ear);
-                    if best.is_none_or(|(s, _)| score > s) {
-                        best = Some((score, i));
-                    }
-                }
+                usable.then(|| (self.smoothness(ear), i))
+            })
+            .collect();
+        // Smoothest first; among equals the first in hole order.
+        ears.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(&b.1)));
+        for (_, i) in ears {
+            if *attempts == 0 {
+                return false;
             }
-            let Some((_, i)) = best else {
-                for _ in 0..added {
-                    self.pop();
-                }
-                return None;
-            };
-            self.add([poly[(i + len - 1) % len], poly[i], poly[(i + 1) % len]]);
-            added += 1;
-            poly.remove(i);
-            if poly.len() == 2 {
-                break;
+            *attempts -= 1;
+            self.add(ear_at(poly, i));
+            let v = poly.remove(i);
+            if poly.len() == 2 || self.clip(poly, attempts) {
+                return true;
             }
+            poly.insert(i, v);
+            self.pop();
         }
-        Some(added)
+        false
     }
 }
 
@@ -506,9 +522,15 @@ impl Surface<'_> {
                 continue;
             }
             self.remove(g);
+            // The removed face is an ear of the grown loop; re-adding it would only rebuild
+            // the hole that just failed, so it stays barred while the loop is clipped.
+            let barred = sorted_face(face);
+            self.vertex_sets.insert(barred);
             let mut grown = hole.to_vec();
             grown.insert(i + 1, x);
-            if let Some(added) = self.fill(&grown) {
+            let filled = self.fill(&grown);
+            self.vertex_sets.remove(&barred);
+            if let Some(added) = filled {
                 return Some(added - 1);
             }
             self.add(face);
@@ -698,5 +720,52 @@ mod tests {
         let (faces, r) = manifold_faces(&p, &[[0, 1, 2]], &[1.0], &OPTS);
         assert!(faces.is_empty());
         assert_eq!(r.rejected_degenerate, 1);
+    }
+
+    #[test]
+    fn a_hole_whose_smoothest_first_ear_leads_nowhere_is_closed_in_another_order() {
+        // A ring of five faces around a bent pentagonal hole (a case found by random search):
+        // clipping the smoothest ear first leaves a remainder whose every ear folds.
+        let p: Vec<Vec3> = [
+            [1.04, -0.28, 0.51],
+            [0.07, 1.02, 0.43],
+            [-0.77, 0.32, -0.28],
+            [-0.68, -0.55, 0.25],
+            [0.38, -1.02, -0.39],
+            [1.9, 0.69, 0.46],
+            [-0.82, 1.92, 0.18],
+            [-2.14, 0.1, 0.36],
+            [-0.44, -1.6, -0.1],
+            [1.54, -1.02, 0.44],
+        ]
+        .map(Vec3::from_array)
+        .to_vec();
+        let ring: Vec<[u32; 3]> = (0..5).map(|k| [(k + 1) % 5, k, 5 + k]).collect();
+        let surface_with_ring = || {
+            let mut s = Surface::new(&p, 0.5);
+            for &f in &ring {
+                assert!(s.check(f).is_ok(), "the ring is a clean surface");
+                s.add(f);
+            }
+            s
+        };
+        // Greedy clipping (no ear taken back) gets stuck and leaves the ring as it was.
+        let mut greedy = surface_with_ring();
+        assert!(!greedy.clip(&mut vec![0, 1, 2, 3, 4], &mut 3));
+        assert_eq!(greedy.alive_faces().count(), 5);
+        // The search closes it with three faces that keep every guarantee.
+        let opts = ManifoldOptions {
+            max_hole_edges: 5,
+            min_component_faces: 0,
+            overlap_tolerance: 0.5,
+        };
+        let (faces, r) = manifold_faces(&p, &ring, &[1.0; 5], &opts);
+        assert_eq!((r.holes_filled, r.hole_faces, faces.len()), (1, 3, 8));
+        let topo = TopologyReport::of(&crate::Mesh::new(p.clone(), faces));
+        assert_eq!(
+            (topo.non_manifold_edges, topo.inconsistent_winding_edges),
+            (0, 0)
+        );
+        assert_eq!(topo.holes, 1, "only the ring's outer border is left");
     }
 }
