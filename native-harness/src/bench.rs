@@ -200,8 +200,11 @@ pub fn run(which: BenchCommand) -> Result<()> {
     if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     }
-    std::fs::write(&output, serde_json::to_string_pretty(&report)? + "\n")
-        .with_context(|| format!("cannot write {}", output.display()))?;
+    meshflow::io::write_atomic(
+        &output,
+        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
+    )
+    .with_context(|| format!("cannot write {}", output.display()))?;
     println!("wrote {}", output.display());
     Ok(())
 }

@@ -605,9 +605,9 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     }
     bar.finish_and_clear();
     if let Some(dir) = &args.meshes {
-        fs::write(
-            dir.join("targets.json"),
-            serde_json::to_string_pretty(&targets)?,
+        meshflow::io::write_atomic(
+            &dir.join("targets.json"),
+            serde_json::to_string_pretty(&targets)?.as_bytes(),
         )?;
     }
     let with_baseline = args.baseline.is_some();
@@ -668,6 +668,12 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     if let Some(b) = &report.all.baseline {
         line("Poisson + QEM", b);
     }
+    let o = &report.all.ours;
+    println!(
+        "  ground truth     holes {:6.2}  components {:6.2}; closed in {} meshes, where ours \
+         has {:.2} holes",
+        o.gt_holes, o.gt_components, o.gt_closed, o.holes_where_gt_closed
+    );
     let t = &report.mean_times;
     println!(
         "  mean per mesh: condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s, \
@@ -675,7 +681,7 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         t.condition_s, t.sample_s, t.decode_s, t.extract_s, t.fit_s
     );
     if let Some(out) = &args.output {
-        fs::write(out, serde_json::to_string_pretty(&report)?)?;
+        meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
         println!("-> {}", out.display());
     }
     Ok(())
@@ -750,7 +756,7 @@ pub fn eval_budget(args: EvalBudgetArgs) -> Result<()> {
     };
     println!("{}", serde_json::to_string_pretty(&report)?);
     if let Some(out) = &args.output {
-        fs::write(out, serde_json::to_string_pretty(&report)?)?;
+        meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
     }
     Ok(())
 }
@@ -833,7 +839,7 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     };
     let json = serde_json::to_string_pretty(&report)?;
     println!("{json}");
-    fs::write(&args.output, json)
+    meshflow::io::write_atomic(&args.output, json.as_bytes())
         .with_context(|| format!("cannot write {}", args.output.display()))?;
     Ok(())
 }

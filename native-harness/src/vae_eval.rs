@@ -261,6 +261,14 @@ pub struct SurfaceSummary {
     pub inconsistent_winding_edges: f64,
     pub degenerate_faces: f64,
     pub components: f64,
+    /// The ground truths' own holes and components (artist meshes are often open and in
+    /// pieces), the yardstick for the two above.
+    pub gt_holes: f64,
+    pub gt_components: f64,
+    /// Meshes whose ground truth is closed (no boundary edge), and the holes of these
+    /// meshes' predictions: holes where there should be none.
+    pub gt_closed: usize,
+    pub holes_where_gt_closed: f64,
 }
 
 impl SurfaceSummary {
@@ -269,6 +277,10 @@ impl SurfaceSummary {
         let k = surfaces.len().max(1) as f64;
         let mean =
             |f: &dyn Fn(&Comparison) -> f64| surfaces.iter().map(|c| f(c)).sum::<f64>() / k + 0.0;
+        let closed: Vec<&&Comparison> = surfaces
+            .iter()
+            .filter(|c| c.gt_topology.boundary_edges == 0)
+            .collect();
         SurfaceSummary {
             no_faces: comparisons.len() - surfaces.len(),
             chamfer_x100: mean(&|c| c.chamfer_x100),
@@ -283,6 +295,14 @@ impl SurfaceSummary {
             }),
             degenerate_faces: mean(&|c| c.pred_topology.degenerate_faces as f64),
             components: mean(&|c| c.pred_topology.components as f64),
+            gt_holes: mean(&|c| c.gt_topology.holes as f64),
+            gt_components: mean(&|c| c.gt_topology.components as f64),
+            gt_closed: closed.len(),
+            holes_where_gt_closed: closed
+                .iter()
+                .map(|c| c.pred_topology.holes as f64)
+                .sum::<f64>()
+                / closed.len().max(1) as f64,
         }
     }
 }
@@ -562,7 +582,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         s.surface.no_faces
     );
     if let Some(out) = &args.output {
-        fs::write(out, serde_json::to_string_pretty(&report)?)?;
+        meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
         println!("-> {}", out.display());
     }
     Ok(())
