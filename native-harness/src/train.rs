@@ -60,6 +60,10 @@ pub struct TrainVaeArgs {
     /// written), e.g. for sweep arms with equal budgets.
     #[arg(long)]
     time_budget_s: Option<f64>,
+    /// Stop at this step (checkpointed and validated, weights written) with the schedule
+    /// unchanged, so the same command without it resumes: snapshots along one run.
+    #[arg(long)]
+    stop_at_step: Option<usize>,
     /// Start from this weights folder's VAE (same model configuration) instead of a seeded
     /// initialisation; required by a `decoder_only` configuration, whose result keeps this
     /// VAE's encoder and latent statistics, so a DiT trained on them still fits.
@@ -193,7 +197,10 @@ pub fn bench_train_vae(args: BenchTrainVaeArgs) -> Result<()> {
     if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
         fs::create_dir_all(dir)?;
     }
-    fs::write(&args.output, serde_json::to_string_pretty(&report)? + "\n")?;
+    meshflow::io::write_atomic(
+        &args.output,
+        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
+    )?;
     println!("-> {}", args.output.display());
     Ok(())
 }
@@ -296,11 +303,15 @@ pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
 pub struct BarObserver {
     pub bar: ProgressBar,
     pub deadline: Option<Instant>,
+    /// Stop once the run has reached this step (the schedule keeps its full length).
+    pub stop_at_step: Option<usize>,
+    step: usize,
 }
 
 impl BarObserver {
-    /// A bar of `steps` steps that stops the run after `budget_s` seconds (when given).
-    pub fn new(steps: usize, budget_s: Option<f64>) -> Self {
+    /// A bar of `steps` steps that stops the run after `budget_s` seconds or at step
+    /// `stop_at_step` (when given).
+    pub fn new(steps: usize, budget_s: Option<f64>, stop_at_step: Option<usize>) -> Self {
         let bar = ProgressBar::new(steps as u64);
         bar.set_style(
             ProgressStyle::with_template(
@@ -309,16 +320,23 @@ impl BarObserver {
             .expect("template"),
         );
         let deadline = budget_s.map(|s| Instant::now() + std::time::Duration::from_secs_f64(s));
-        Self { bar, deadline }
+        Self {
+            bar,
+            deadline,
+            stop_at_step,
+            step: 0,
+        }
     }
 }
 
 impl TrainObserver for BarObserver {
     fn stop(&self) -> bool {
         self.deadline.is_some_and(|d| Instant::now() >= d)
+            || self.stop_at_step.is_some_and(|s| self.step >= s)
     }
 
     fn step(&mut self, step: usize, summary: &str) {
+        self.step = step;
         self.bar.set_position(step as u64);
         self.bar.set_message(summary.to_string());
     }
@@ -464,7 +482,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         args.backend.name()
     );
     let started = Instant::now();
-    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
+    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s, args.stop_at_step);
     let trained = train_vae_from(
         &cfg,
         init.as_ref().map(|(map, _)| map),

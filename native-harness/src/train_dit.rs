@@ -40,6 +40,10 @@ pub struct TrainDitArgs {
     /// Stop after this many seconds of wall time (checkpointed, weights written).
     #[arg(long)]
     time_budget_s: Option<f64>,
+    /// Stop at this step (checkpointed and validated, weights written) with the schedule
+    /// unchanged, so the same command without it resumes: snapshots along one run.
+    #[arg(long)]
+    stop_at_step: Option<usize>,
     /// Start from this folder's trained DiT (dit.safetensors, dit.manifest.json; same
     /// configuration, trained on this VAE's latents) instead of a seeded initialisation: a
     /// fine-tune.
@@ -132,7 +136,7 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
         cfg.steps
     );
     fs::create_dir_all(&args.out)?;
-    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s);
+    let mut observer = BarObserver::new(cfg.steps, args.time_budget_s, args.stop_at_step);
     let (weights, steps, last_val) = train_dit(
         &cfg,
         init.as_ref().map(|(map, _)| map),

@@ -519,6 +519,15 @@ fn train_dit_on_latents_of_the_shipped_vae() {
         )
     };
     std::fs::write(&config, tiny(num_latents)).unwrap();
+    let train_steps = || -> Vec<u64> {
+        std::fs::read_to_string(run.join("metrics.jsonl"))
+            .unwrap()
+            .lines()
+            .map(|l| serde_json::from_str::<serde_json::Value>(l).unwrap())
+            .filter(|v| v.get("lr").is_some())
+            .map(|v| v["step"].as_u64().unwrap())
+            .collect()
+    };
     let args = |config: &Path| {
         vec![
             "train".to_string(),
@@ -533,6 +542,18 @@ fn train_dit_on_latents_of_the_shipped_vae() {
             config.to_str().unwrap().into(),
         ]
     };
+    // Stopped at step 2 of the 4-step schedule (a snapshot with its weights), then the same
+    // command resumes to the end: each step is trained once.
+    let mut a = args(&config);
+    a.extend(["--stop-at-step".to_string(), "2".into()]);
+    let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(run.join("dit.safetensors").is_file());
+    assert_eq!(train_steps(), [1, 2]);
     let a = args(&config);
     let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert!(
@@ -540,6 +561,7 @@ fn train_dit_on_latents_of_the_shipped_vae() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    assert_eq!(train_steps(), [1, 2, 3, 4]);
     let manifest: serde_json::Value =
         serde_json::from_slice(&std::fs::read(run.join("dit.manifest.json")).unwrap()).unwrap();
     assert_eq!(manifest["train_examples"], 32);
