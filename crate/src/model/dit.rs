@@ -23,7 +23,7 @@ use burn::tensor::activation::{gelu, silu};
 use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
-use super::layers::linear;
+use super::layers::{Attention, linear};
 
 /// RMSNorm epsilon of the DiT.
 pub const DIT_NORM_EPS: f64 = 1e-6;
@@ -78,45 +78,6 @@ fn rms_norm(width: usize, device: &Device) -> RmsNorm {
     RmsNormConfig::new(width)
         .with_epsilon(DIT_NORM_EPS)
         .init(device)
-}
-
-/// Self-attention with the DiT's names (`q_norm`, `k_norm`, `out_proj`).
-#[derive(Module, Debug)]
-pub struct DitAttention {
-    pub to_q: Linear,
-    pub to_k: Linear,
-    pub to_v: Linear,
-    pub q_norm: RmsNorm,
-    pub k_norm: RmsNorm,
-    pub out_proj: Linear,
-    pub heads: usize,
-}
-
-impl DitAttention {
-    fn new(width: usize, heads: usize, device: &Device) -> Self {
-        let head_dim = width / heads;
-        Self {
-            to_q: linear(width, width, false, device),
-            to_k: linear(width, width, false, device),
-            to_v: linear(width, width, false, device),
-            q_norm: rms_norm(head_dim, device),
-            k_norm: rms_norm(head_dim, device),
-            out_proj: linear(width, width, true, device),
-            heads,
-        }
-    }
-
-    fn forward(&self, x: Tensor<3>, rope: &Rope) -> Tensor<3> {
-        let [b, l, w] = x.dims();
-        let hd = w / self.heads;
-        let split = |t: Tensor<3>| t.reshape([b, l, self.heads, hd]).swap_dims(1, 2);
-        let q = rope.apply(self.q_norm.forward(split(self.to_q.forward(x.clone()))));
-        let k = rope.apply(self.k_norm.forward(split(self.to_k.forward(x.clone()))));
-        let v = split(self.to_v.forward(x));
-        let out = burn::tensor::module::attention(q, k, v, None, None, Default::default());
-        self.out_proj
-            .forward(out.swap_dims(1, 2).reshape([b, l, w]))
-    }
 }
 
 /// RoPE-3D angles for one batch: `cos` and `sin` `[B, 1, L, head_dim]`, each pair's angle
@@ -175,7 +136,9 @@ pub struct DitMlp {
 #[derive(Module, Debug)]
 pub struct DitBlock {
     pub norm1: RmsNorm,
-    pub attn1: DitAttention,
+    /// Self-attention with RoPE (the reference calls its norms `q_norm`, `k_norm` and its
+    /// output `out_proj`: [`crate::model::weights::reference_component`]).
+    pub attn1: Attention,
     pub norm3: RmsNorm,
     /// Reference name `adaLN_modulation.1`: SiLU(temb) -> 7 chunks.
     pub adaln: Linear,
@@ -200,7 +163,7 @@ impl DitBlock {
     fn new(width: usize, heads: usize, with_skip: bool, device: &Device) -> Self {
         Self {
             norm1: rms_norm(width, device),
-            attn1: DitAttention::new(width, heads, device),
+            attn1: Attention::new(width, heads, DIT_NORM_EPS, device),
             norm3: rms_norm(width, device),
             adaln: linear(width, 7 * width, true, device),
             mlp: DitMlp {
@@ -234,7 +197,7 @@ impl DitBlock {
         let m = self.adaln.forward(silu(temb)).reshape([b, 7, w]);
         let chunk = |i: usize| m.clone().narrow(1, i, 1); // [B, 1, W]
         let x = modulate(self.norm1.forward(h.clone()), chunk(0), chunk(1));
-        let h = h + chunk(2) * self.attn1.forward(x, rope);
+        let h = h + chunk(2) * self.attn1.forward(x.clone(), x, Some(&|t| rope.apply(t)));
         let x = modulate(self.norm3.forward(h.clone()), chunk(3), chunk(4));
         let mlp = self.mlp.fc2.forward(gelu(self.mlp.fc1.forward(x)));
         h + chunk(5) * mlp

@@ -133,26 +133,34 @@ impl TensorMap {
 }
 
 /// Reference name of one component of a Burn module path; the rest are the same in both.
-pub fn reference_component(component: &str) -> &str {
-    match component {
-        "to_out" => "to_out.0",
-        "linear_in" => "net.0.proj",
-        "linear_out" => "net.2",
-        "hidden" => "0",
-        "output" => "2",
-        "gamma" => "weight",
-        "beta" => "bias",
-        "adaln" => "adaLN_modulation.1",
+/// The VAE and the DiT share one [`crate::model::layers::Attention`], whose reference names
+/// differ: `in_dit` gives the DiT's (`q_norm`, `k_norm`, `out_proj` for the VAE's `norm_q`,
+/// `norm_k`, `to_out.0`).
+pub fn reference_component(component: &str, in_dit: bool) -> &str {
+    match (component, in_dit) {
+        ("norm_q", true) => "q_norm",
+        ("norm_k", true) => "k_norm",
+        ("to_out", true) => "out_proj",
+        ("to_out", false) => "to_out.0",
+        ("linear_in", _) => "net.0.proj",
+        ("linear_out", _) => "net.2",
+        ("hidden", _) => "0",
+        ("output", _) => "2",
+        ("gamma", _) => "weight",
+        ("beta", _) => "bias",
+        ("adaln", _) => "adaLN_modulation.1",
         // The DiT's optional long-skip module: its tensors sit directly in the block.
-        "skip" => "",
-        other => other,
+        ("skip", _) => "",
+        (other, _) => other,
     }
 }
 
 /// The reference name of a Burn module path.
 pub fn reference_name(path: &[String]) -> String {
+    // The DiT's blocks are its top-level `blocks`; the VAE's sit under `encoder`/`decoder`.
+    let in_dit = path.first().is_some_and(|c| c == "blocks");
     path.iter()
-        .map(|c| reference_component(c))
+        .map(|c| reference_component(c, in_dit))
         .filter(|c| !c.is_empty())
         .collect::<Vec<_>>()
         .join(".")
