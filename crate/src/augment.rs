@@ -1,4 +1,4 @@
-//! Training-time augmentation and a seeded loader over training shards.
+//! Training-time augmentation.
 //!
 //! The shards hold each mesh once, in the Y-up model frame ([`crate::dataset`]); every pass
 //! over them sees a different random variant, drawn here rather than stored:
@@ -17,16 +17,14 @@
 //! 5. a point cloud for the DiT's condition: [`sample_surface`] (area-uniform) on the
 //!    augmented mesh, with each point's face normal.
 //!
-//! Determinism: a sample depends only on the mesh, the options and its seed; the [`Loader`]
-//! derives each sample's seed from (seed, epoch, mesh index), so the augmentation of a mesh
-//! does not depend on the shuffled order. The angle is drawn without trigonometry (a point
+//! Determinism: a sample depends only on the mesh, the options and its seed (the VAE's
+//! training draws the seeds from its run's generator, in its shuffled batch order). The angle is drawn without trigonometry (a point
 //! drawn uniformly in the unit disc, normalised), and every transform is computed in `f64`
 //! with plain IEEE operations, so results are the same on every platform.
 
 use glam::{DVec3, Vec3};
 
 use crate::Mesh;
-use crate::dataset::{DatasetError, Shard};
 use crate::normalize::Normalization;
 use crate::normals::vertex_normals;
 use crate::rng::Rng;
@@ -134,8 +132,6 @@ impl Augmentation {
 /// One training example: an augmented mesh and the point cloud that conditions on it.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TrainingSample {
-    /// The mesh's index in its [`ShardSet`] (or 0 from [`augment`]).
-    pub index: usize,
     /// The augmented mesh in the model frame, with unit vertex normals.
     pub mesh: Mesh,
     /// Area-uniform surface points of `mesh`, with the unit normals of their faces.
@@ -154,7 +150,6 @@ pub fn augment(
     let (out, aug) = transform(mesh, opts, &mut rng);
     let points = sample_surface(&out, opts.points, rng.next_u64())?;
     Ok(TrainingSample {
-        index: 0,
         mesh: out,
         points,
         augmentation: aug,
@@ -189,120 +184,9 @@ fn transform(mesh: &Mesh, opts: &AugmentOptions, rng: &mut Rng) -> (Mesh, Augmen
     (out, aug)
 }
 
-/// The meshes of several shards under one index: shard by shard, in each shard's order.
-#[derive(Clone, Debug, Default)]
-pub struct ShardSet {
-    shards: Vec<Shard>,
-    /// `starts[k]` is the index of shard `k`'s first mesh; one more entry holds the total.
-    starts: Vec<usize>,
-}
-
-impl ShardSet {
-    pub fn new(shards: Vec<Shard>) -> Self {
-        let mut starts = vec![0];
-        for s in &shards {
-            starts.push(starts[starts.len() - 1] + s.len());
-        }
-        Self { shards, starts }
-    }
-
-    /// Parses and validates each shard's bytes ([`Shard::from_bytes`]).
-    pub fn from_bytes<B: AsRef<[u8]>>(shards: &[B]) -> Result<Self, DatasetError> {
-        let parsed: Result<Vec<Shard>, DatasetError> = shards
-            .iter()
-            .map(|b| Shard::from_bytes(b.as_ref()))
-            .collect();
-        Ok(Self::new(parsed?))
-    }
-
-    /// Total number of meshes.
-    pub fn len(&self) -> usize {
-        self.starts[self.starts.len() - 1]
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-
-    /// Mesh `i` of the set, or `None` past the end.
-    pub fn get(&self, i: usize) -> Option<Mesh> {
-        if i >= self.len() {
-            return None;
-        }
-        let k = self.starts.partition_point(|&s| s <= i) - 1;
-        self.shards[k].get(i - self.starts[k])
-    }
-}
-
-/// The seed of the sample of mesh `index` in `epoch` of a loader seeded with `seed`.
-fn sample_seed(seed: u64, epoch: u64, index: usize) -> u64 {
-    let mut r = Rng::new(seed);
-    let base = r.next_u64();
-    let mut r = Rng::new(base ^ epoch.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    let base = r.next_u64();
-    Rng::new(base ^ (index as u64).wrapping_mul(0xD6E8_FEB8_6659_FD93)).next_u64()
-}
-
-/// One epoch over a [`ShardSet`]: every mesh once, in an order shuffled by (seed, epoch),
-/// each augmented with a seed derived from (seed, epoch, mesh index). Yields
-/// `Err` for a mesh that cannot be sampled (a mesh of the filtered training data always can).
-#[derive(Clone, Debug)]
-pub struct Loader<'a> {
-    set: &'a ShardSet,
-    opts: AugmentOptions,
-    seed: u64,
-    epoch: u64,
-    order: Vec<usize>,
-    next: usize,
-}
-
-impl<'a> Loader<'a> {
-    pub fn new(set: &'a ShardSet, opts: AugmentOptions, seed: u64, epoch: u64) -> Self {
-        let mut order: Vec<usize> = (0..set.len()).collect();
-        Rng::new(sample_seed(seed, epoch, usize::MAX)).shuffle(&mut order);
-        Self {
-            set,
-            opts,
-            seed,
-            epoch,
-            order,
-            next: 0,
-        }
-    }
-
-    /// The mesh indices of this epoch, in the order they are yielded.
-    pub fn order(&self) -> &[usize] {
-        &self.order
-    }
-}
-
-impl Iterator for Loader<'_> {
-    type Item = Result<TrainingSample, SampleError>;
-
-    fn next(&mut self) -> Option<Self::Item> {
-        let index = *self.order.get(self.next)?;
-        self.next += 1;
-        let mesh = self.set.get(index)?;
-        Some(
-            augment(&mesh, &self.opts, sample_seed(self.seed, self.epoch, index)).map(|mut s| {
-                s.index = index;
-                s
-            }),
-        )
-    }
-
-    fn size_hint(&self) -> (usize, Option<usize>) {
-        let left = self.order.len() - self.next;
-        (left, Some(left))
-    }
-}
-
-impl ExactSizeIterator for Loader<'_> {}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::dataset::ShardWriter;
     use crate::normals::face_normal;
     use crate::primitives::{cube, icosphere};
     use crate::rng::Rng;
@@ -450,50 +334,5 @@ mod tests {
         // Up stays up under a rotation about Y and a positive scale.
         assert!((expected - Vec3::Y).length() < 1e-6);
         assert!(augment(&Mesh::from_points(vec![Vec3::ONE]), &POINTS, 0).is_err());
-    }
-
-    #[test]
-    fn loader_shuffles_per_epoch_and_seeds_per_mesh() {
-        let meshes = [icosphere(1), cube(), blob([1.0, 2.0, 0.5], 0.2, [1.0; 3])];
-        let shards: Vec<Vec<u8>> = [&meshes[..2], &meshes[2..]]
-            .iter()
-            .map(|part| {
-                let mut w = ShardWriter::new();
-                part.iter().for_each(|m| {
-                    w.push(m);
-                });
-                w.finish()
-            })
-            .collect();
-        let set = ShardSet::from_bytes(&shards).unwrap();
-        assert_eq!(set.len(), 3);
-        assert_eq!(set.get(2).unwrap().faces, meshes[2].faces);
-        assert!(set.get(3).is_none());
-        let opts = AugmentOptions {
-            points: 64,
-            ..AugmentOptions::default()
-        };
-        let epoch = |seed, e| -> Vec<TrainingSample> {
-            Loader::new(&set, opts, seed, e)
-                .map(Result::unwrap)
-                .collect()
-        };
-        let a = epoch(7, 0);
-        assert_eq!(a, epoch(7, 0), "same seed and epoch, same samples");
-        let mut seen: Vec<usize> = a.iter().map(|s| s.index).collect();
-        seen.sort();
-        assert_eq!(seen, [0, 1, 2], "every mesh once");
-        // Another epoch: new augmentations (and generally a new order); a mesh's sample does
-        // not depend on where the shuffle put it.
-        let b = epoch(7, 1);
-        for s in &a {
-            let t = b.iter().find(|t| t.index == s.index).unwrap();
-            assert_ne!(s.augmentation, t.augmentation);
-        }
-        let orders: std::collections::HashSet<Vec<usize>> = (0..20)
-            .map(|e| Loader::new(&set, opts, 7, e).order().to_vec())
-            .collect();
-        assert!(orders.len() > 3, "{orders:?}");
-        assert_eq!(Loader::new(&set, opts, 7, 0).len(), 3);
     }
 }

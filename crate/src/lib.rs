@@ -11,8 +11,9 @@
 //! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
 //! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
 //! - [`cards`]: the billboard-card measure the dataset filter uses.
-//! - [`augment`]: training-time augmentation (rotation about Y, scale jitter, surface points)
-//!   and a seeded, shuffled loader over shards.
+//! - `shards` (not wasm32): reading a shard build from disk (manifest, meshes by entry or
+//!   split), the one reader training, evaluation and `meshflow data` use.
+//! - [`augment`]: training-time augmentation (rotation about Y, scale jitter, surface points).
 //! - [`disjoint_sets`]: union-find, for welding classes and components.
 //! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
 //! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics), and
@@ -74,6 +75,8 @@ pub mod primitives;
 pub mod reconstruct;
 pub mod rng;
 pub mod sample;
+#[cfg(not(target_arch = "wasm32"))]
+pub mod shards;
 pub mod shipped;
 #[cfg(feature = "wgpu")]
 pub mod threshold_gpu;

@@ -2,28 +2,26 @@
 //! from a full build): real training meshes in the shard format, for tests that must run where
 //! the source packages are not (CI). Checks that it loads, that the manifest describes the
 //! shards exactly, that it may be redistributed (permissive licenses, license texts present),
-//! that writing it again gives the same bytes, and that the loader runs on it.
+//! that writing it again gives the same bytes, and that augmentation runs on every mesh read
+//! through the shard reader.
 
 use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use meshflow::augment::{AugmentOptions, Loader, ShardSet};
+use meshflow::augment::{AugmentOptions, augment};
 use meshflow::dataset::{
     FilterOptions, ManifestEntry, Shard, ShardWriter, Split, filter, geometry_hash, is_permissive,
     split_key, split_of,
 };
+use meshflow::shards::{load_meshes, read_manifest};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/dataset")
 }
 
 fn manifest() -> Vec<ManifestEntry> {
-    fs::read_to_string(dir().join("manifest.jsonl"))
-        .unwrap()
-        .lines()
-        .map(|l| serde_json::from_str(l).unwrap())
-        .collect()
+    read_manifest(&dir()).unwrap()
 }
 
 fn shards() -> BTreeMap<String, Vec<u8>> {
@@ -131,21 +129,19 @@ fn writing_the_meshes_again_gives_the_same_bytes() {
 }
 
 #[test]
-fn the_loader_runs_on_the_fixture() {
-    let shards: Vec<Vec<u8>> = shards().into_values().collect();
-    let set = ShardSet::from_bytes(&shards).unwrap();
+fn augmentation_runs_on_every_mesh_of_the_fixture() {
     let opts = AugmentOptions {
         points: 512,
         ..AugmentOptions::default()
     };
-    let mut seen = 0;
-    for sample in Loader::new(&set, opts, 1, 0) {
-        let s = sample.unwrap();
+    let entries = manifest();
+    let meshes = load_meshes(&dir(), &entries).unwrap();
+    assert_eq!(meshes.len(), entries.len());
+    for (seed, (_, mesh)) in meshes.iter().enumerate() {
+        let s = augment(mesh, &opts, seed as u64).unwrap();
         let b = s.mesh.aabb().unwrap();
         assert!(b.min.min_element() >= -1.0 - 1e-5 && b.max.max_element() <= 1.0 + 1e-5);
         assert_eq!(s.mesh.normals.len(), s.mesh.positions.len());
         assert_eq!(s.points.len(), 512);
-        seen += 1;
     }
-    assert_eq!(seen, set.len());
 }

@@ -36,6 +36,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::BadInput;
 use crate::plot;
+use meshflow::shards::{load_meshes, read_manifest};
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
 /// 2: sources rotated to Y-up ([`UP_AXES`]); the billboard-card filter.
@@ -1610,52 +1611,6 @@ pub fn subset_command(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<()
 
 // ---------------------------------------------------------------------------------------
 // stats and show
-
-/// The meshes of manifest `entries` of the build in `dir`, each shard read once.
-pub fn load_meshes<E: std::borrow::Borrow<ManifestEntry>>(
-    dir: &Path,
-    entries: impl IntoIterator<Item = E>,
-) -> Result<Vec<(E, Mesh)>> {
-    let mut shards: HashMap<String, Shard> = HashMap::new();
-    let mut out = Vec::new();
-    for e in entries {
-        let entry = e.borrow();
-        if !shards.contains_key(&entry.shard) {
-            let path = dir.join(&entry.shard);
-            let bytes =
-                fs::read(&path).with_context(|| format!("cannot read {}", path.display()))?;
-            let shard = Shard::from_bytes(&bytes)
-                .with_context(|| format!("{} is corrupt", path.display()))?;
-            shards.insert(entry.shard.clone(), shard);
-        }
-        let Some(mesh) = shards[&entry.shard].get(entry.index) else {
-            bail!(
-                "{} has no mesh {} (manifest and shards disagree)",
-                entry.shard,
-                entry.index
-            );
-        };
-        out.push((e, mesh));
-    }
-    Ok(out)
-}
-
-pub fn read_manifest(dir: &Path) -> Result<Vec<ManifestEntry>> {
-    let path = dir.join("manifest.jsonl");
-    let text = fs::read_to_string(&path).with_context(|| {
-        format!(
-            "cannot read {} (run `meshflow data build` first)",
-            path.display()
-        )
-    })?;
-    text.lines()
-        .enumerate()
-        .map(|(i, l)| {
-            serde_json::from_str(l)
-                .with_context(|| format!("{} line {}: not a manifest entry", path.display(), i + 1))
-        })
-        .collect()
-}
 
 /// One histogram panel: `values` binned over `0..=max`.
 struct HistPanel {

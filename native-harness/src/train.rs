@@ -20,7 +20,7 @@ use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae_from};
 use serde::Serialize;
 
 use crate::BadInput;
-use crate::data::{load_meshes, read_manifest};
+use meshflow::shards::load_split;
 
 #[derive(Subcommand)]
 pub enum TrainCommand {
@@ -286,16 +286,6 @@ fn resolve_config(name: &str) -> Result<VaeTrainConfig> {
                 .map_err(|e| BadInput(format!("--config {path}: {e}")))?)
         }
     }
-}
-
-/// The meshes of one split of a shard build, in manifest order.
-pub fn load_split(dir: &Path, split: Split) -> Result<Vec<Mesh>> {
-    let entries = read_manifest(dir)?;
-    let wanted = entries.iter().filter(|e| e.split == split);
-    Ok(load_meshes(dir, wanted)?
-        .into_iter()
-        .map(|(_, m)| m)
-        .collect())
 }
 
 /// A progress bar for a training run, with an optional wall-clock budget after which the run

@@ -13,9 +13,10 @@ use meshflow::model::dit::DitConfig;
 use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 
 use crate::BadInput;
-use crate::train::{BarObserver, load_split, load_weights, read_shipped, write_weights};
+use crate::train::{BarObserver, load_weights, read_shipped, write_weights};
 use meshflow::dataset::Split;
 use meshflow::model::TensorMap;
+use meshflow::shards::load_split;
 use meshflow::shipped::{DitManifest, Provenance, sha256_hex};
 
 #[derive(Args)]

@@ -15,7 +15,8 @@ use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
-use crate::train::{load_split, load_weights};
+use crate::train::load_weights;
+use meshflow::shards::load_split;
 
 /// The shipped weights, compiled into the binary: the last resort of [`weights_dir`], so an
 /// installed `meshflow` works with no repository and no weights folder beside it.
