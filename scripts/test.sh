@@ -16,7 +16,7 @@
 #   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
 #   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web
 #                --profile wasm-release -- -D warnings
-#                                          (the wasm-only code: web.rs, viewer.rs)
+#                                          (the wasm-only code: web/api.rs, web/viewer.rs)
 #   node tests/e2e/browser.test.mjs        (the page and the npm package in
 #                                           headless Chromium over SwiftShader)
 # Each step prints its time; the last line is a plain

@@ -7,7 +7,7 @@
 // The answer is a bit matrix, one row of `words` u32 words per vertex: bit (j % 32) of word
 // (b * n + i) * words + j / 32 is set iff (i, j) is an edge of mesh b. Only these bits go back
 // to the host (32 KiB for n = 512, where the embeddings are 64 KiB and the distances 1 MiB), and
-// the host turns them into the edge list (crate/src/extract.rs, `edges_from_bits`).
+// the host turns them into the edge list (crate/src/extract/mod.rs, `edges_from_bits`).
 //
 // One invocation writes one word: 32 candidate pairs of one row, so no atomics are needed and
 // the result does not depend on scheduling. The distance is summed directly (not through the

@@ -1,4 +1,4 @@
-// The page's mesh viewer (crate/src/viewer.rs): the generated mesh flat-shaded with its
+// The page's mesh viewer (crate/src/web/viewer.rs): the generated mesh flat-shaded with its
 // wireframe drawn over it in the same pass, and the input points as small screen-space squares.
 
 struct View {

@@ -48,7 +48,7 @@ fn threshold(c: &mut Criterion) {
 #[cfg(feature = "wgpu")]
 fn threshold_gpu(c: &mut Criterion) {
     use burn::tensor::{Tensor, TensorData};
-    use meshflow::threshold_gpu::spacetime_edge_bits;
+    use meshflow::extract::threshold_gpu::spacetime_edge_bits;
     let Ok(device) = meshflow::device::vulkan() else {
         eprintln!("no Vulkan device: skipping the GPU threshold");
         return;

@@ -3,9 +3,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use meshflow::metrics::{CompareOptions, chamfer_hausdorff, compare_meshes};
-use meshflow::primitives::icosphere;
-use meshflow::sample::sample_surface;
+use meshflow::eval::metrics::{CompareOptions, chamfer_hausdorff, compare_meshes};
+use meshflow::geometry::primitives::icosphere;
+use meshflow::geometry::sample::sample_surface;
 
 fn bench(c: &mut Criterion) {
     let opts = CompareOptions::default();

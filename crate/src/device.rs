@@ -73,7 +73,7 @@ fn ndarray() -> Result<Device, String> {
 
 /// The burn-wgpu device on Vulkan. Burn's runtime can be initialised once per process, so the
 /// device is created once and cloned afterwards. (The browser opens WebGPU asynchronously
-/// instead, in `web.rs`.)
+/// instead, in `web/api.rs`.)
 #[cfg(all(feature = "wgpu", not(target_family = "wasm")))]
 pub fn vulkan() -> Result<Device, String> {
     use burn::tensor::wgpu::WgpuBackend;

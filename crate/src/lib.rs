@@ -6,91 +6,53 @@
 //! the models, mesh extraction, fitting to the input, and the evaluation metrics. The
 //! conventions it follows are in `docs/design.md` (cited as "docs/design.md section N").
 //!
-//! Module map (one algorithm per file):
-//! - [`mesh`]: the [`Mesh`] type (positions, optional normals, triangles) and bounding boxes.
-//! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV) and writers (GLB, OBJ, PLY).
-//! - [`dataset`]: the training shard format (safetensors), the manifest, filter and split rules.
-//! - [`cards`]: the billboard-card measure the dataset filter uses.
-//! - `shards` (not wasm32): reading a shard build from disk (manifest, meshes by entry or
-//!   split), the one reader training, evaluation and `meshflow data` use.
-//! - [`augment`]: training-time augmentation (rotation about Y, scale jitter, surface points).
-//! - [`disjoint_sets`]: union-find, for welding classes and components.
-//! - [`clean`]: welding and removal of degenerate, duplicate and back-to-back faces.
-//! - [`normalize`]: bounding-box normalisation to [-1,1] (model) or [-0.5,0.5] (metrics), and
-//!   the rotation of a source's up axis to the model frame's Y-up.
-//! - [`normals`]: area-weighted vertex normals.
-//! - [`topology`]: edges, adjacency, boundary loops, components, the topology report.
-//! - [`sample`]: seeded area-uniform surface sampling.
-//! - [`voxel`]: voxel indices at resolution 32 for the DiT's RoPE-3D.
-//! - [`tokens`]: vertex order, padding, Fourier features and neighbour block for the MeshVAE.
+//! The folders read as the method, top-down (one algorithm per file inside each):
+//! input and output ([`io`]) and the geometry core ([`geometry`]); training data ([`data`]);
+//! the networks and their inputs ([`model`]); edges to faces ([`extract`]); the surface
+//! fitted to the input and completed ([`surface`]); the whole path, input to mesh
+//! ([`pipeline`]); training (`train`), metrics ([`eval`]) and the browser side ([`web`]).
+//!
+//! - [`io`]: readers (OBJ, PLY, STL, glTF/GLB, XYZ/PTS/CSV, and the game formats the data
+//!   build reads) and writers (GLB, OBJ, PLY).
+//! - [`geometry`]: the [`Mesh`] type and bounding boxes, area-weighted normals, topology
+//!   (edges, boundary loops, components, the topology report), seeded surface sampling,
+//!   normalisation to the model frame, cleaning (welding, degenerate and duplicate faces),
+//!   union-find, voxel indices for the DiT's RoPE-3D, test primitives.
+//! - [`data`]: the shard format, manifest, filter and split rules; reading a build from disk
+//!   (`shards`, not on wasm32); the billboard-card measure; training-time augmentation;
+//!   noisy and partial point clouds for the robustness figures.
+//! - [`model`]: the MeshVAE's per-vertex tokens, where the DiT's latent tokens sit, the
+//!   MeshVAE, the DiT, their layers, sampler, schedule and weight loading.
 //! - [`extract`]: spacetime edge threshold, then edges -> faces by the manifold method
-//!   (default) or the paper's Algorithm 1.
-//! - [`manifold`]: the manifold method: candidate faces accepted best-first by edge margin,
-//!   manifold and consistently wound by construction, small holes filled, tiny pieces dropped.
-//! - [`overlap`]: the "no face lies on another it shares no edge with" test.
-//! - [`fit`]: generated vertices moved onto the input points without folding faces.
-//! - [`complete`]: the surface completed between generated vertices, on the input points.
-//! - [`degrade`]: noisy and partial versions of a point cloud, for robustness figures.
-//! - [`condition`]: where the DiT's latent tokens sit (farthest points of the input).
-//! - [`model`]: the MeshVAE, the DiT, their layers, sampler and weight loading.
-//! - [`reconstruct`]: a mesh through the MeshVAE and back.
-//! - [`device`]: the CPU (flex) and wgpu devices.
+//!   (default; `manifold`, with the `overlap` test) or the paper's Algorithm 1; the threshold
+//!   as a WGSL kernel (`threshold_gpu`, feature `wgpu`).
+//! - [`surface`]: generated vertices moved onto the input points without folding faces
+//!   (`fit`), and the surface completed between them (`complete`).
+//! - [`pipeline`]: the default vertex budget, generation (point cloud -> DiT sampling -> VAE
+//!   decode -> mesh), reconstruction through the MeshVAE, the shipped weights' manifests.
 //! - `train` (feature `train`): the training loop both models share, and each one's step.
-//! - [`camera`]: the viewer's orbit camera.
-//! - `viewer` (wasm32, feature `web`): the page's wgpu mesh viewer on Burn's WebGPU device.
-//! - [`budget`]: the default vertex budget from a point cloud's occupancy and curvature.
-//! - [`generate`]: the inference path, point cloud -> DiT sampling -> VAE decode -> mesh.
-//! - [`shipped`]: the shipped weights' manifests, and loading them from bytes with checks.
-//! - [`metrics`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
-//! - [`primitives`]: octahedron, icosphere and grid meshes for tests and benchmarks.
-//! - `threshold_gpu` (feature `wgpu`): Algorithm 1's spacetime threshold as a WGSL kernel on
-//!   Burn's wgpu device, so only an edge bit matrix is read back.
-//! - [`rng`]: a small seeded generator so results are reproducible on every platform.
-//! - `web` (wasm32, feature `web`): the browser API, wasm-bindgen.
-//! - [`workloads`]: the inputs the extraction benchmarks time.
+//! - [`eval`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
+//! - [`web`]: the viewer's orbit camera; on wasm32 with feature `web`, the wasm-bindgen API
+//!   and the page's wgpu mesh viewer.
+//! - [`device`]: the CPU (flex) and wgpu devices; [`rng`]: a small seeded generator, so
+//!   results are reproducible on every platform; [`workloads`]: the inputs the extraction
+//!   benchmarks time.
 
-pub mod augment;
-pub mod budget;
-pub mod camera;
-pub mod cards;
-pub mod clean;
-pub mod complete;
-pub mod condition;
-pub mod dataset;
-pub mod degrade;
+pub mod data;
 pub mod device;
-pub mod disjoint_sets;
+pub mod eval;
 pub mod extract;
-pub mod fit;
-pub mod generate;
+pub mod geometry;
 pub mod io;
-pub mod manifold;
-pub mod mesh;
-pub mod metrics;
 pub mod model;
-pub mod normalize;
-pub mod normals;
-pub mod overlap;
-pub mod primitives;
-pub mod reconstruct;
+pub mod pipeline;
 pub mod rng;
-pub mod sample;
-#[cfg(not(target_arch = "wasm32"))]
-pub mod shards;
-pub mod shipped;
-#[cfg(feature = "wgpu")]
-pub mod threshold_gpu;
-pub mod tokens;
-pub mod topology;
+pub mod surface;
 #[cfg(feature = "train")]
 pub mod train;
-#[cfg(all(target_arch = "wasm32", feature = "web"))]
-pub mod viewer;
-pub mod voxel;
-#[cfg(all(target_arch = "wasm32", feature = "web"))]
 pub mod web;
 pub mod workloads;
 
 /// The Burn version the models are written against, for callers that build tensors.
 pub use burn;
-pub use mesh::{Aabb, Mesh};
+pub use geometry::mesh::{Aabb, Mesh};

@@ -5,10 +5,10 @@ use glam::Vec3;
 
 use crate::Mesh;
 use crate::extract::{ExtractMethod, ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
-use crate::normals::vertex_normals;
-use crate::primitives::icosphere;
+use crate::geometry::normals::vertex_normals;
+use crate::geometry::primitives::icosphere;
+use crate::geometry::topology::{Edge, edges};
 use crate::rng::Rng;
-use crate::topology::{Edge, edges};
 
 /// Vertices with normals and an edge list: the input of [`extract_mesh`].
 pub struct EdgeWorkload {

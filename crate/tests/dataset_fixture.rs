@@ -9,12 +9,12 @@ use std::collections::BTreeMap;
 use std::fs;
 use std::path::{Path, PathBuf};
 
-use meshflow::augment::{AugmentOptions, augment};
-use meshflow::dataset::{
+use meshflow::data::augment::{AugmentOptions, augment};
+use meshflow::data::dataset::{
     FilterOptions, ManifestEntry, Shard, ShardWriter, Split, filter, geometry_hash, is_permissive,
     split_key, split_of,
 };
-use meshflow::shards::{load_meshes, read_manifest};
+use meshflow::data::shards::{load_meshes, read_manifest};
 
 fn dir() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/dataset")

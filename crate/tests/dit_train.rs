@@ -195,7 +195,7 @@ fn position_augment_draws_positions_as_inference_does() {
     let cells: std::collections::HashSet<[u32; 3]> = example
         .surface
         .iter()
-        .map(|&p| meshflow::voxel::voxel_index(p))
+        .map(|&p| meshflow::geometry::voxel::voxel_index(p))
         .collect();
     for _ in 0..5 {
         let positions = clean.positions(&example, &mut rng);
@@ -228,7 +228,7 @@ fn position_augment_draws_positions_as_inference_does() {
                 example.surface[..256]
                     .iter()
                     .map(|&s| {
-                        let c = meshflow::voxel::voxel_index(s).map(|c| c as f32);
+                        let c = meshflow::geometry::voxel::voxel_index(s).map(|c| c as f32);
                         positions
                             .iter()
                             .map(|p| (0..3).map(|k| (p[k] - c[k]).powi(2)).sum::<f32>().sqrt())

@@ -6,10 +6,10 @@ use meshflow::Mesh;
 use meshflow::extract::{
     ExtractMethod, ExtractOptions, FaceSupport, extract_mesh, spacetime_edges, triangles_of_edges,
 };
-use meshflow::normals::vertex_normals;
-use meshflow::primitives::{grid, icosphere};
+use meshflow::geometry::normals::vertex_normals;
+use meshflow::geometry::primitives::{grid, icosphere};
+use meshflow::geometry::topology::{TopologyReport, edges, rotate_min_first, sorted_face};
 use meshflow::rng::Rng;
-use meshflow::topology::{TopologyReport, edges, rotate_min_first, sorted_face};
 use proptest::prelude::*;
 
 /// A perturbed icosphere or grid with some faces deleted and its vertices renumbered at random.
@@ -155,7 +155,7 @@ proptest! {
             prop_assert_eq!(r.faces, out.faces.len());
             prop_assert!(r.faces + r.piece_faces_dropped <= r.clique_faces + r.hole_faces);
             // Every remaining piece has at least the minimum number of faces.
-            let (labels, count) = meshflow::topology::components(out.positions.len(), &out.faces);
+            let (labels, count) = meshflow::geometry::topology::components(out.positions.len(), &out.faces);
             let mut size = vec![0usize; count];
             for f in &out.faces { size[labels[f[0] as usize] as usize] += 1; }
             prop_assert!(size.iter().all(|&s| s >= min_piece.max(1)));
@@ -191,10 +191,10 @@ proptest! {
         // A lace: a perturbed mesh with most faces deleted, completed against points sampled
         // from the whole mesh.
         let whole = random_mesh(kind, size, jitter, 0, seed);
-        let points = meshflow::sample::sample_surface(&whole, 2000, seed).unwrap().points;
+        let points = meshflow::geometry::sample::sample_surface(&whole, 2000, seed).unwrap().points;
         let mut lace = random_mesh(kind, size, jitter, delete, seed);
         lace.normals = vertex_normals(&lace.positions, &whole.faces);
-        let opts = meshflow::complete::CompleteOptions {
+        let opts = meshflow::surface::complete::CompleteOptions {
             max_gap: gap,
             overlap_tolerance: tolerance,
             model_priority: if first { f32::INFINITY } else { priority },
@@ -202,12 +202,12 @@ proptest! {
             require_vote: voted,
             ..Default::default()
         };
-        let manifold = meshflow::manifold::ManifoldOptions {
+        let manifold = meshflow::extract::manifold::ManifoldOptions {
             max_hole_edges: 4,
             min_component_faces: 2,
             overlap_tolerance: 0.0,
         };
-        let (out, r) = meshflow::complete::complete_surface(&lace, &points, &opts, &manifold);
+        let (out, r) = meshflow::surface::complete::complete_surface(&lace, &points, &opts, &manifold);
         let t = TopologyReport::of(&out);
         prop_assert!(out.validate().is_ok());
         prop_assert_eq!(t.non_manifold_edges, 0);

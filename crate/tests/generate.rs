@@ -1,15 +1,17 @@
-//! The inference path (`meshflow::generate`) with the shipped VAE (`weights/`) and a small
+//! The inference path (`meshflow::pipeline::generate`) with the shipped VAE (`weights/`) and a small
 //! seeded DiT, so the test does not depend on the shipped DiT's training: outputs are valid meshes in the
 //! input's frame, seeding is reproducible and batch-independent, cancellation and bad input
 //! give typed errors.
 
 use burn::tensor::Device;
 use glam::Vec3;
-use meshflow::generate::{GenerateError, GenerateOptions, Generator, input_points, to_model_frame};
+use meshflow::geometry::primitives::icosphere;
 use meshflow::model::dit::{Dit, DitConfig};
 use meshflow::model::sampler::SampleError;
 use meshflow::model::{MeshVae, TensorMap, VaeConfig, load_module, seeded_init};
-use meshflow::primitives::icosphere;
+use meshflow::pipeline::generate::{
+    GenerateError, GenerateOptions, Generator, input_points, to_model_frame,
+};
 
 struct Models {
     vae: MeshVae,
@@ -280,11 +282,11 @@ fn default_budget_comes_from_the_rule_within_the_vae_size() {
         .generate(&[sphere_points(1.0, Vec3::ZERO)], &opts, &mut |_, _| true)
         .unwrap();
     let (model_points, _) = to_model_frame(&sphere_points(1.0, Vec3::ZERO)).unwrap();
-    let features = meshflow::budget::shape_features(&model_points, 0);
+    let features = meshflow::pipeline::budget::shape_features(&model_points, 0);
     assert_eq!(out[0].features, features);
     assert_eq!(
         out[0].vertex_budget,
-        meshflow::budget::DEFAULT_RULE.budget(&features, 512)
+        meshflow::pipeline::budget::DEFAULT_RULE.budget(&features, 512)
     );
 }
 
@@ -292,13 +294,16 @@ fn default_budget_comes_from_the_rule_within_the_vae_size() {
 fn meshes_are_surface_sampled_and_point_clouds_kept() {
     let sphere = icosphere(1);
     let sampled = input_points(&sphere, 3).unwrap();
-    assert_eq!(sampled.len(), meshflow::generate::CONDITION_POINTS);
+    assert_eq!(
+        sampled.len(),
+        meshflow::pipeline::generate::CONDITION_POINTS
+    );
     let cloud = meshflow::Mesh::from_points(sphere.positions.clone());
     assert_eq!(input_points(&cloud, 3).unwrap(), sphere.positions);
     let big = meshflow::Mesh::from_points(sampled.iter().chain(&sampled).copied().collect());
     assert_eq!(
         input_points(&big, 3).unwrap().len(),
-        meshflow::generate::CONDITION_POINTS
+        meshflow::pipeline::generate::CONDITION_POINTS
     );
 }
 
@@ -322,8 +327,8 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
     let generator = m.generator();
     let points = sphere_points(2.0, Vec3::new(1.0, 0.0, -3.0));
     let raw = GenerateOptions {
-        fit: meshflow::fit::FitOptions::OFF,
-        complete: meshflow::complete::CompleteOptions {
+        fit: meshflow::surface::fit::FitOptions::OFF,
+        complete: meshflow::surface::complete::CompleteOptions {
             enabled: false,
             ..Default::default()
         },
@@ -365,7 +370,7 @@ fn a_face_count_sets_the_vertex_budget() {
         .unwrap();
     assert_eq!(
         out[0].vertex_budget,
-        meshflow::generate::budget_for_faces(90, 512).unwrap()
+        meshflow::pipeline::generate::budget_for_faces(90, 512).unwrap()
     );
     assert_eq!(out[0].vertex_budget, 86);
 }

@@ -2,13 +2,13 @@
 
 use glam::Vec3;
 use meshflow::Mesh;
-use meshflow::clean::{CleanOptions, clean};
-use meshflow::normals::{face_normal, vertex_normals};
-use meshflow::primitives::{cube, grid, icosphere};
+use meshflow::geometry::clean::{CleanOptions, clean};
+use meshflow::geometry::normals::{face_normal, vertex_normals};
+use meshflow::geometry::primitives::{cube, grid, icosphere};
+use meshflow::geometry::topology;
+use meshflow::geometry::voxel::{VOXEL_RESOLUTION, voxel_index};
+use meshflow::model::tokens::{TokenConfig, build_tokens, vertex_order};
 use meshflow::rng::Rng;
-use meshflow::tokens::{TokenConfig, build_tokens, vertex_order};
-use meshflow::topology;
-use meshflow::voxel::{VOXEL_RESOLUTION, voxel_index};
 use proptest::prelude::*;
 
 fn point() -> impl Strategy<Value = Vec3> {

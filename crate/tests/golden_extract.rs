@@ -7,7 +7,7 @@ use common::{Golden, canonical_faces, max_abs_diff};
 use meshflow::extract::{
     ExtractOptions, FaceSupport, TAU, extract_mesh, spacetime_distance, spacetime_edges,
 };
-use meshflow::topology::EdgeIncidence;
+use meshflow::geometry::topology::EdgeIncidence;
 
 /// Edges used exactly once by a set of faces: for a fan over one loop, that loop's edges.
 fn outline(faces: &[[u32; 3]]) -> Vec<[u32; 2]> {

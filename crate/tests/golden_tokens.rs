@@ -5,8 +5,10 @@ mod common;
 
 use common::{Golden, max_abs_diff};
 use glam::Vec3;
-use meshflow::normals::vertex_normals;
-use meshflow::tokens::{TokenConfig, assemble_features, embed_dim, fourier_embed, in_channels};
+use meshflow::geometry::normals::vertex_normals;
+use meshflow::model::tokens::{
+    TokenConfig, assemble_features, embed_dim, fourier_embed, in_channels,
+};
 
 fn vec3s(flat: &[f32]) -> Vec<Vec3> {
     flat.chunks_exact(3).map(Vec3::from_slice).collect()

@@ -7,9 +7,9 @@ mod common;
 use burn::tensor::{Device, Tensor, TensorData};
 use common::{Golden, max_abs_diff};
 use glam::Vec3;
+use meshflow::model::tokens::assemble_features;
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, WeightsError, load_module};
 use meshflow::model::{module_tensors, spacetime_distances};
-use meshflow::tokens::assemble_features;
 
 const TOLERANCE: f32 = 1e-4;
 

@@ -257,7 +257,7 @@ fn glb_chunks(json: &[u8], bin: Option<&[u8]>) -> Vec<u8> {
 
 #[test]
 fn glb_bad_inputs() {
-    let good = write_glb(&meshflow::primitives::cube());
+    let good = write_glb(&meshflow::geometry::primitives::cube());
     assert!(read_bytes(&good, Format::Glb, &Limits::default()).is_ok());
     let patch = |f: fn(&mut Vec<u8>)| {
         let mut g = good.clone();
@@ -330,7 +330,7 @@ fn limits_reject_with_too_large() {
         ),
         (
             Format::Glb,
-            write_glb(&meshflow::primitives::cube()),
+            write_glb(&meshflow::geometry::primitives::cube()),
             "accessor count",
         ),
         (Format::Gltf, gltf(&[]), "accessor count"),

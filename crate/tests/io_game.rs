@@ -4,11 +4,11 @@
 use std::path::PathBuf;
 
 use glam::Vec3;
+use meshflow::geometry::mesh::Mesh;
 use meshflow::io::{
     DAE_MAX_NODE_DEPTH, DAE_MAX_XML_ATTRIBUTES, DAE_MAX_XML_NODES, DaeInfo, Format, Limits,
     Location, ReadError, UpAxis, read_bytes, read_dae, read_path,
 };
-use meshflow::mesh::Mesh;
 
 fn fixtures() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/game")

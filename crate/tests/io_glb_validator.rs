@@ -6,8 +6,8 @@ use std::process::Command;
 
 use glam::Vec3;
 use meshflow::Mesh;
+use meshflow::geometry::primitives::{grid, icosphere};
 use meshflow::io::write_glb;
-use meshflow::primitives::{grid, icosphere};
 
 #[test]
 fn write_glb_output_passes_the_khronos_validator() {

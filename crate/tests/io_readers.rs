@@ -318,7 +318,7 @@ fn gltf_strip_fan_and_points_modes() {
 
 #[test]
 fn glb_written_by_write_glb() {
-    let m = meshflow::primitives::grid(3, 2);
+    let m = meshflow::geometry::primitives::grid(3, 2);
     let back = read(&meshflow::io::write_glb(&m), Format::Glb);
     assert_eq!(back, m);
 }

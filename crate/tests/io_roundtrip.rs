@@ -2,10 +2,10 @@
 
 use glam::Vec3;
 use meshflow::Mesh;
+use meshflow::geometry::primitives::{cube, grid, icosphere};
 use meshflow::io::{
     Format, Limits, read_bytes, read_path, write_glb, write_obj, write_path, write_ply,
 };
-use meshflow::primitives::{cube, grid, icosphere};
 use proptest::prelude::*;
 
 /// Deterministic unit normals for any mesh.

@@ -2,11 +2,11 @@
 
 use glam::Vec3;
 use meshflow::Mesh;
-use meshflow::metrics::{
+use meshflow::eval::metrics::{
     CompareOptions, Comparison, chamfer_hausdorff, compare_meshes, edge_scores,
 };
-use meshflow::primitives::{cube, icosphere, octahedron};
-use meshflow::sample::sample_surface;
+use meshflow::geometry::primitives::{cube, icosphere, octahedron};
+use meshflow::geometry::sample::sample_surface;
 use proptest::prelude::*;
 
 fn point() -> impl Strategy<Value = Vec3> {

@@ -2,7 +2,7 @@
 //! and by latent space, and both identities hold for the VAE that ships beside it.
 
 use burn::tensor::Device;
-use meshflow::shipped::{load_dit, load_vae};
+use meshflow::pipeline::shipped::{load_dit, load_vae};
 
 fn read(name: &str) -> Vec<u8> {
     std::fs::read(concat!(env!("CARGO_MANIFEST_DIR"), "/../weights/").to_string() + name).unwrap()

@@ -1,4 +1,4 @@
-//! The WGSL spacetime threshold (`shaders/spacetime_threshold.wgsl`, `meshflow::threshold_gpu`)
+//! The WGSL spacetime threshold (`shaders/spacetime_threshold.wgsl`, `meshflow::extract::threshold_gpu`)
 //! on burn-wgpu over Vulkan (lavapipe in CI) against the CPU kernel and the reference's edges.
 #![cfg(feature = "wgpu")]
 
@@ -6,15 +6,15 @@ mod common;
 
 use burn::tensor::{Device, Tensor, TensorData};
 use common::Golden;
+use meshflow::extract::threshold_gpu::{GpuThresholdError, spacetime_edge_bits, words_per_row};
 use meshflow::extract::{
     DecodedEdges, DecodedVertices, ExtractOptions, edges_from_bits, extract_from_decoded,
     spacetime_distance, spacetime_edges,
 };
-use meshflow::generate::{DeviceEdges, Generator, read_bits};
 use meshflow::model::dit::{Dit, DitConfig};
 use meshflow::model::{MeshVae, TensorMap, VaeConfig, load_module, seeded_init};
+use meshflow::pipeline::generate::{DeviceEdges, Generator, read_bits};
 use meshflow::rng::Rng;
-use meshflow::threshold_gpu::{GpuThresholdError, spacetime_edge_bits, words_per_row};
 
 const TAU: f32 = 0.6;
 

@@ -7,9 +7,9 @@ use std::path::PathBuf;
 
 use burn::tensor::Device;
 use meshflow::Mesh;
+use meshflow::geometry::normalize::Normalization;
+use meshflow::geometry::primitives::{cube, grid, icosphere, octahedron};
 use meshflow::model::{MeshVae, VaeConfig, load_module};
-use meshflow::normalize::Normalization;
-use meshflow::primitives::{cube, grid, icosphere, octahedron};
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{VaeTrainConfig, epoch_batches, train_vae, validate};
 
@@ -290,7 +290,7 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
 /// validation loss of the decoder, and refuses to start without weights to start from.
 #[test]
 fn decoder_only_training_keeps_the_latent_space() {
-    use meshflow::shipped::{is_encoder_side, latent_space_sha256};
+    use meshflow::pipeline::shipped::{is_encoder_side, latent_space_sha256};
     use meshflow::train::vae::train_vae_from;
     let device = Device::flex();
     let data = meshes();

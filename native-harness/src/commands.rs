@@ -3,16 +3,18 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
-use meshflow::clean::{CleanOptions, CleanReport, clean};
+use meshflow::eval::metrics::{CompareOptions, compare_meshes};
 use meshflow::extract::{ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
+use meshflow::geometry::clean::{CleanOptions, CleanReport, clean};
+use meshflow::geometry::normalize::Normalization;
+use meshflow::geometry::normals::vertex_normals;
+use meshflow::geometry::sample::sample_surface;
+use meshflow::geometry::topology::{
+    TopologyReport, adjacency, edges, rotate_min_first, sorted_face,
+};
 use meshflow::io::{Limits, read_path, write_path};
-use meshflow::metrics::{CompareOptions, compare_meshes};
-use meshflow::normalize::Normalization;
-use meshflow::normals::vertex_normals;
-use meshflow::sample::sample_surface;
-use meshflow::tokens::{token_edges, vertex_order};
-use meshflow::topology::{TopologyReport, adjacency, edges, rotate_min_first, sorted_face};
-use meshflow::{Mesh, mesh::Aabb};
+use meshflow::model::tokens::{token_edges, vertex_order};
+use meshflow::{Aabb, Mesh};
 use serde::Serialize;
 
 use crate::BadInput;

@@ -8,7 +8,7 @@
 //! Per file: the format comes from the name ([`Format::from_path`]); `.zip`, `.pk3`, `.sh3f`
 //! and `.wz` archives (and archives inside them) are opened and their members treated like
 //! files, named `archive!member`. Every mesh is read, cleaned, filtered, normalised to the
-//! model frame, deduplicated and split (the rules are in [`meshflow::dataset`]); kept meshes
+//! model frame, deduplicated and split (the rules are in [`meshflow::data::dataset`]); kept meshes
 //! go to `{split}-{k:05}.safetensors` shards, one `manifest.jsonl` line each, and the counts
 //! to `build.json`. Shards and manifest are byte-identical across runs for the same inputs.
 
@@ -23,20 +23,20 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::Mesh;
-use meshflow::clean::{CleanOptions, CleanReport, clean};
-use meshflow::dataset::{
+use meshflow::data::dataset::{
     FilterOptions, Fnv64, ManifestEntry, Shard, ShardWriter, Split, filter, geometry_hash, mesh_id,
     split_key, split_of,
 };
+use meshflow::geometry::clean::{CleanOptions, CleanReport, clean};
+use meshflow::geometry::normalize::{Normalization, UpAxis};
+use meshflow::geometry::topology::TopologyReport;
 use meshflow::io::{Format, Limits, read_bytes};
-use meshflow::normalize::{Normalization, UpAxis};
-use meshflow::topology::TopologyReport;
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
 use crate::BadInput;
 use crate::plot;
-use meshflow::shards::{load_meshes, read_manifest};
+use meshflow::data::shards::{load_meshes, read_manifest};
 
 /// Bumped whenever processing changes, so per-package caches are rebuilt.
 /// 2: sources rotated to Y-up ([`UP_AXES`]); the billboard-card filter.
@@ -1486,7 +1486,7 @@ pub struct SubsetSummary {
 }
 
 /// Picks the subset's entries: for each split, the permissively licensed
-/// ([`meshflow::dataset::is_permissive`]) meshes of at most `max_vertices` vertices from the
+/// ([`meshflow::data::dataset::is_permissive`]) meshes of at most `max_vertices` vertices from the
 /// packages in `with_license_text` (a mesh cannot be redistributed without its license text),
 /// taken round-robin over packages so the sources vary (in name order, starting a third of
 /// the way further for each split so validation and test do not always start at the same
@@ -1516,7 +1516,7 @@ fn select_subset(
                     .filter(|e| {
                         e.split == split
                             && &&e.package == package
-                            && meshflow::dataset::is_permissive(&e.license)
+                            && meshflow::data::dataset::is_permissive(&e.license)
                             && e.vertices <= opts.max_vertices
                     })
                     .collect();
@@ -2100,7 +2100,7 @@ mod tests {
                 (e.split, &e.path, e.content_hash.as_str()),
                 (source.split, &source.path, source.content_hash.as_str())
             );
-            assert!(meshflow::dataset::is_permissive(&e.license) && e.vertices <= 300);
+            assert!(meshflow::data::dataset::is_permissive(&e.license) && e.vertices <= 300);
             let shard = Shard::from_bytes(&fs::read(root.join(&e.shard)).unwrap()).unwrap();
             assert_eq!(
                 format!("{:016x}", geometry_hash(&shard.mesh(e.index), HASH_QUANTUM)),

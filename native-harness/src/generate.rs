@@ -9,28 +9,28 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use meshflow::Mesh;
-use meshflow::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use meshflow::burn::tensor::Device;
-use meshflow::complete::CompleteOptions;
-use meshflow::degrade::{Degradation, degrade};
+use meshflow::data::degrade::{Degradation, degrade};
 use meshflow::device::{BackendKind, device};
-use meshflow::fit::FitOptions;
-use meshflow::generate::{
-    CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, faces_range, input_points,
-};
-use meshflow::metrics::{CompareOptions, Comparison, compare_meshes};
+use meshflow::eval::metrics::{CompareOptions, Comparison, compare_meshes};
+use meshflow::geometry::sample::sample_surface;
 use meshflow::model::MeshVae;
 use meshflow::model::dit::Dit;
 use meshflow::model::schedule::ScheduleMode;
-use meshflow::reconstruct::reconstruct_batch;
-use meshflow::sample::sample_surface;
+use meshflow::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
+use meshflow::pipeline::generate::{
+    CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, faces_range, input_points,
+};
+use meshflow::pipeline::reconstruct::reconstruct_batch;
+use meshflow::surface::complete::CompleteOptions;
+use meshflow::surface::fit::FitOptions;
 use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
 use crate::train::{load_weights, read_shipped};
 use crate::vae_eval::{EvalSetArgs, SurfaceSummary, eval_meshes, weights_dir};
-use meshflow::shipped::{DitManifest, VaeManifest};
+use meshflow::pipeline::shipped::{DitManifest, VaeManifest};
 
 /// The sampler's end point, as a command-line value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -209,7 +209,7 @@ pub fn load_models(dir: &Path, device: &Device) -> Result<Models> {
     let (vae, vae_manifest) = load_weights(dir, device)?;
     let (manifest, weights) = read_shipped(dir, "dit")?;
     let (dit, dit_manifest) =
-        meshflow::shipped::load_dit(&manifest, &weights, &vae_manifest, device)
+        meshflow::pipeline::shipped::load_dit(&manifest, &weights, &vae_manifest, device)
             .map_err(|e| BadInput(format!("{}: {e}", dir.display())))?;
     Ok(Models {
         vae,
@@ -231,9 +231,9 @@ struct GenerateReport<'a> {
     load_s: f64,
     times: &'a StageTimes,
     extract: &'a meshflow::extract::ExtractReport,
-    fit: &'a meshflow::fit::FitReport,
-    complete: &'a meshflow::complete::CompleteReport,
-    topology: &'a meshflow::topology::TopologyReport,
+    fit: &'a meshflow::surface::fit::FitReport,
+    complete: &'a meshflow::surface::complete::CompleteReport,
+    topology: &'a meshflow::geometry::topology::TopologyReport,
 }
 
 fn read_input(path: &Path) -> Result<Mesh> {

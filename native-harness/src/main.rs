@@ -297,8 +297,8 @@ fn main() -> ExitCode {
             let bad_input = err.chain().any(|e| {
                 e.is::<BadInput>()
                     || e.is::<meshflow::io::ReadError>()
-                    || e.is::<meshflow::sample::SampleError>()
-                    || e.is::<meshflow::metrics::MetricsError>()
+                    || e.is::<meshflow::geometry::sample::SampleError>()
+                    || e.is::<meshflow::eval::metrics::MetricsError>()
                     || e.downcast_ref::<meshflow::io::WriteError>()
                         .is_some_and(|w| {
                             matches!(w, meshflow::io::WriteError::UnsupportedFormat { .. })

@@ -10,17 +10,17 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::Mesh;
-use meshflow::dataset::Split;
+use meshflow::data::dataset::Split;
 use meshflow::device::{BackendKind, device};
+use meshflow::model::tokens::build_tokens;
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module};
-use meshflow::shipped::{Provenance, VaeManifest, sha256_hex};
-use meshflow::tokens::build_tokens;
+use meshflow::pipeline::shipped::{Provenance, VaeManifest, sha256_hex};
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{VaeTrainConfig, make_batch, train_vae_from};
 use serde::Serialize;
 
 use crate::BadInput;
-use meshflow::shards::load_split;
+use meshflow::data::shards::load_split;
 
 #[derive(Subcommand)]
 pub enum TrainCommand {
@@ -444,8 +444,9 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         Some(dir) => {
             // One read: the checked load (sha256, shapes) and the tensors come from the same bytes.
             let (manifest_bytes, bytes) = read_shipped(dir, "vae")?;
-            let (_, manifest) = meshflow::shipped::load_vae(&manifest_bytes, &bytes, &device)
-                .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
+            let (_, manifest) =
+                meshflow::pipeline::shipped::load_vae(&manifest_bytes, &bytes, &device)
+                    .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
             if manifest.model != cfg.model {
                 bail!(BadInput(format!(
                     "--init {}: its VAE configuration differs from the training configuration's",
@@ -578,7 +579,7 @@ pub fn load_weights(
     device: &meshflow::burn::tensor::Device,
 ) -> Result<(MeshVae, VaeManifest)> {
     let (manifest, weights) = read_shipped(dir, "vae")?;
-    meshflow::shipped::load_vae(&manifest, &weights, device)
+    meshflow::pipeline::shipped::load_vae(&manifest, &weights, device)
         .map_err(|e| BadInput(format!("{}: {e}", dir.display())).into())
 }
 

@@ -14,10 +14,10 @@ use meshflow::train::dit::{DitTrainConfig, encode_latents, train_dit};
 
 use crate::BadInput;
 use crate::train::{BarObserver, load_weights, read_shipped, write_weights};
-use meshflow::dataset::Split;
+use meshflow::data::dataset::Split;
+use meshflow::data::shards::load_split;
 use meshflow::model::TensorMap;
-use meshflow::shards::load_split;
-use meshflow::shipped::{DitManifest, Provenance, sha256_hex};
+use meshflow::pipeline::shipped::{DitManifest, Provenance, sha256_hex};
 
 #[derive(Args)]
 pub struct TrainDitArgs {
@@ -98,9 +98,13 @@ pub fn run(args: TrainDitArgs) -> Result<()> {
             // The checked load (sha256, shapes, the VAE's latent space) and the tensors come
             // from the same bytes.
             let (manifest_bytes, bytes) = read_shipped(dir, "dit")?;
-            let (_, manifest) =
-                meshflow::shipped::load_dit(&manifest_bytes, &bytes, &vae_manifest, &device)
-                    .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
+            let (_, manifest) = meshflow::pipeline::shipped::load_dit(
+                &manifest_bytes,
+                &bytes,
+                &vae_manifest,
+                &device,
+            )
+            .map_err(|e| BadInput(format!("--init {}: {e}", dir.display())))?;
             if manifest.model != cfg.model {
                 bail!(BadInput(format!(
                     "--init {}: its DiT configuration differs from the training configuration's",

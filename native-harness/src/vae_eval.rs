@@ -7,16 +7,16 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use clap::Args;
 use meshflow::Mesh;
-use meshflow::dataset::Split;
+use meshflow::data::dataset::Split;
 use meshflow::device::{BackendKind, device};
-use meshflow::metrics::{CompareOptions, Comparison};
-use meshflow::reconstruct::{ReconstructionMetrics, prepare, reconstruct_batch};
+use meshflow::eval::metrics::{CompareOptions, Comparison};
+use meshflow::pipeline::reconstruct::{ReconstructionMetrics, prepare, reconstruct_batch};
 use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
 use crate::train::load_weights;
-use meshflow::shards::load_split;
+use meshflow::data::shards::load_split;
 
 /// The shipped weights, compiled into the binary: the last resort of [`weights_dir`], so an
 /// installed `meshflow` works with no repository and no weights folder beside it.
@@ -58,7 +58,7 @@ fn embedded_weights_dir() -> Result<PathBuf> {
         .collect();
     let dir = cache.join(format!(
         "weights-{}",
-        &meshflow::shipped::sha256_hex(&manifests)[..16]
+        &meshflow::pipeline::shipped::sha256_hex(&manifests)[..16]
     ));
     if dir.join("dit.safetensors").is_file() {
         return Ok(dir);
@@ -479,7 +479,7 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
     let mut keep = |index: usize,
                     name: &str,
                     gt: &Mesh,
-                    r: meshflow::reconstruct::Reconstruction|
+                    r: meshflow::pipeline::reconstruct::Reconstruction|
      -> Result<()> {
         if let Some(dir) = &args.meshes {
             meshflow::io::write_path(&r.mesh, &dir.join(format!("{index}.glb")))?;

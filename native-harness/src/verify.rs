@@ -12,8 +12,8 @@ use meshflow::device::{BackendKind, device};
 use meshflow::model::dit::{Dit, DitConfig, Rope, is_image_path};
 use meshflow::model::sampler::sample;
 use meshflow::model::schedule::ScheduleMode;
+use meshflow::model::tokens::assemble_features;
 use meshflow::model::{MeshVae, TensorMap, Trace, VaeConfig, load_module, spacetime_distances};
-use meshflow::tokens::assemble_features;
 
 /// Largest accepted absolute difference.
 pub const TOLERANCE: f32 = 1e-4;

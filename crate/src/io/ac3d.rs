@@ -44,7 +44,7 @@ use glam::{DMat3, DVec3, Vec3};
 use super::{
     Format, Limits, Location, ReadError, check_limit, finish, malformed, push_fan, vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Ac3d;
 

@@ -40,7 +40,7 @@ use glam::Vec3;
 
 use super::tokens::{Token, Tokens, parse};
 use super::{Format, Limits, ReadError, check_limit, finish, malformed, vertex_limit};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Ase;
 

@@ -51,7 +51,7 @@ use glam::{DMat4, DVec3, Vec3};
 use roxmltree::{Document, Node, NodeId, ParsingOptions};
 
 use super::{Format, Limits, Location, ReadError, check_limit, finish, malformed, vertex_limit};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Dae;
 

@@ -27,7 +27,7 @@ use glam::{Mat3, Mat4, Quat, Vec3};
 use serde::Deserialize;
 
 use super::{Format, Limits, Location, ReadError, check_limit, finish, malformed, vertex_limit};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 /// Deepest node hierarchy accepted.
 pub const MAX_NODE_DEPTH: usize = 64;
@@ -924,7 +924,7 @@ pub fn write_glb(mesh: &Mesh) -> Vec<u8> {
     if n == 0 {
         doc["scenes"] = json!([{}]);
     } else {
-        let aabb = mesh.aabb().unwrap_or(crate::mesh::Aabb {
+        let aabb = mesh.aabb().unwrap_or(crate::geometry::mesh::Aabb {
             min: Vec3::ZERO,
             max: Vec3::ZERO,
         });

@@ -8,7 +8,7 @@
 //! three u8 packed coordinates and a normal index; position = byte * scale + translation.
 //!
 //! Normals are not read: MD2 stores an index into a fixed table of 162 directions that is not
-//! part of the file, so the mesh has no normals (recompute them with [`crate::normals`]).
+//! part of the file, so the mesh has no normals (recompute them with [`crate::geometry::normals`]).
 //! Triangles are stored clockwise seen from outside (838 of the 857 closed-or-not models of
 //! ufoai-data 2.5 enclose a negative signed volume); each is reversed so that faces wind
 //! counter-clockwise, as everywhere in meshflow.
@@ -22,7 +22,7 @@ use super::{
     Cursor, Format, Limits, Location, ReadError, bad_vertex_index, check_limit, finish, malformed,
     vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Md2;
 const HEADER: u64 = 68;

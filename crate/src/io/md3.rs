@@ -26,7 +26,7 @@ use glam::Vec3;
 use super::{
     Cursor, Format, Limits, Location, ReadError, check_limit, finish, malformed, vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Md3;
 /// The size of the file header and of a surface header.

@@ -46,7 +46,7 @@ use glam::{DQuat, DVec3, Vec3};
 
 use super::tokens::{Token, Tokens};
 use super::{Format, Limits, Location, ReadError, check_limit, finish, malformed, vertex_limit};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Md5;
 

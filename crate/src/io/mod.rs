@@ -17,10 +17,10 @@
 //!   [`ReadError::Empty`]; a face index outside the vertex list is
 //!   [`ReadError::IndexOutOfRange`].
 //! - Polygons are fan-triangulated; degenerate triangles (a repeated index) are kept as they
-//!   are (cleaning is [`crate::clean`]'s job).
+//!   are (cleaning is [`crate::geometry::clean`]'s job).
 //! - Normals: a normal whose length is already within 1e-5 of one is kept bit-for-bit, others
 //!   are renormalised; if any normal is zero-length or not finite, *all* normals are dropped
-//!   (the mesh then has none, and [`crate::normals`] can recompute them). A non-finite normal
+//!   (the mesh then has none, and [`crate::geometry::normals`] can recompute them). A non-finite normal
 //!   is never an error, in any format (an OBJ `vn nan 0 0` included).
 
 mod ac3d;
@@ -46,7 +46,7 @@ use std::path::Path;
 
 use glam::Vec3;
 
-use crate::mesh::{Mesh, MeshError};
+use crate::geometry::mesh::{Mesh, MeshError};
 
 pub use ac3d::MAX_DEPTH as AC3D_MAX_DEPTH;
 pub use ase::MAX_DEPTH as ASE_MAX_DEPTH;

@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use glam::Vec3;
 
 use super::{Format, Limits, Location, ReadError, check_limit, finish, malformed, push_fan, utf8};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Obj;
 

@@ -14,7 +14,7 @@ use glam::Vec3;
 use super::{
     Format, Limits, Location, ReadError, check_limit, finish, malformed, push_fan, vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Ply;
 /// Longest header accepted.

@@ -17,7 +17,7 @@
 use super::{
     Cursor, Format, Limits, ReadError, bad_vertex_index, check_limit, finish, vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Pmd;
 

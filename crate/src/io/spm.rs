@@ -29,7 +29,7 @@ use super::{
     Cursor, Format, Limits, Location, ReadError, bad_vertex_index, check_limit, finish, malformed,
     vertex_limit,
 };
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Spm;
 

@@ -14,7 +14,7 @@ use std::collections::HashMap;
 use glam::Vec3;
 
 use super::{Format, Limits, Location, ReadError, check_limit, finish, malformed, vertex_limit};
-use crate::mesh::Mesh;
+use crate::geometry::mesh::Mesh;
 
 const F: Format = Format::Stl;
 

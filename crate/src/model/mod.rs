@@ -1,11 +1,15 @@
 //! The neural networks, in Burn, generic over the backend through Burn's run-time `Device`:
-//! [`vae`] (MeshVAE), [`dit`] (rectified-flow DiT), shared [`layers`], and [`weights`] (safetensors under the reference's
+//! their inputs ([`tokens`]: the MeshVAE's per-vertex tokens; [`condition`]: where the DiT's
+//! latent tokens sit), [`vae`] (MeshVAE), [`dit`] (rectified-flow DiT), shared [`layers`],
+//! the [`sampler`] and its [`schedule`], and [`weights`] (safetensors under the reference's
 //! state-dict names).
 
+pub mod condition;
 pub mod dit;
 pub mod layers;
 pub mod sampler;
 pub mod schedule;
+pub mod tokens;
 pub mod vae;
 pub mod weights;
 

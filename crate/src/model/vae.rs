@@ -19,7 +19,7 @@ use burn::tensor::{Device, Tensor};
 use serde::{Deserialize, Serialize};
 
 use super::layers::{CrossAttentionBlock, SelfAttentionBlock, layer_norm, linear};
-use crate::tokens::{TokenConfig, embed_dim};
+use crate::model::tokens::{TokenConfig, embed_dim};
 
 /// Size of a MeshVAE. Stored as JSON beside the weights.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -236,7 +236,7 @@ pub struct Decoder {
 }
 
 /// The MeshVAE. Build with [`MeshVae::new`]; load weights with
-/// [`crate::shipped::load_vae`].
+/// [`crate::pipeline::shipped::load_vae`].
 #[derive(Module, Debug)]
 pub struct MeshVae {
     pub encoder: Encoder,
@@ -328,7 +328,7 @@ impl MeshVae {
         }
     }
 
-    /// Encoder input features `[B, N, C]` (from [`crate::tokens::build_tokens`]) to the
+    /// Encoder input features `[B, N, C]` (from [`crate::model::tokens::build_tokens`]) to the
     /// posterior.
     pub fn encode(&self, x: Tensor<3>, trace: &mut Trace) -> Posterior {
         let e = &self.encoder;

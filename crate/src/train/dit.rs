@@ -2,12 +2,12 @@
 //!
 //! Each training mesh is encoded once with the shipped VAE (posterior mean), normalised by the
 //! latent mean/std of the VAE's manifest, and stored with its latent tokens' RoPE positions
-//! ([`crate::condition::latent_positions`]) and its vertex count. A step draws `t` from a
+//! ([`crate::model::condition::latent_positions`]) and its vertex count. A step draws `t` from a
 //! logit-normal (`sigmoid(N(0, 1))`), forms `x_t = (1 - t) x_0 + t eps` and regresses the
 //! velocity `eps - x_0` with mean squared error (docs/design.md section 2).
 //!
 //! Conditioning augmentation ([`PositionAugment`], issue 15 item 3): inference gives the
-//! tokens positions drawn from the user's points ([`crate::condition::inference_positions`]),
+//! tokens positions drawn from the user's points ([`crate::model::condition::inference_positions`]),
 //! which real scans make noisy, uneven and partial. With it, a share of the training examples
 //! get their positions the same way, from their own surface samples thinned, shifted by noise
 //! and with a region cut away, so the model learns from what it will be given.
@@ -24,15 +24,15 @@ use super::adamw::{AdamW, AdamWState};
 use super::run::{Schedule, StepOutcome, Task, run_training};
 use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
-use crate::condition::{inference_positions, latent_positions, vertex_condition};
-use crate::degrade::{Degradation, degrade};
+use crate::data::degrade::{Degradation, degrade};
+use crate::geometry::sample::{sample_surface, subsample_points};
+use crate::model::condition::{inference_positions, latent_positions, vertex_condition};
 use crate::model::dit::{Dit, DitConfig, Rope, is_image_path};
 use crate::model::sampler::normal_noise;
+use crate::model::tokens::build_tokens;
 use crate::model::weights::{TensorMap, WeightsError};
 use crate::model::{MeshVae, Trace, VaeConfig, load_module, seeded_init};
 use crate::rng::Rng;
-use crate::sample::{sample_surface, subsample_points};
-use crate::tokens::build_tokens;
 use crate::train::vae::make_batch;
 
 /// One cached training example.

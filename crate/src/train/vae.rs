@@ -23,14 +23,14 @@ use super::adamw::{AdamW, AdamWState};
 use super::run::{Schedule, StepOutcome, Task, run_training};
 use super::{DeviceEma, TrainError, TrainObserver, scalar, warmup_cosine};
 use crate::Mesh;
-use crate::augment::{AugmentOptions, augment_mesh};
-use crate::metrics::edge_scores;
+use crate::data::augment::{AugmentOptions, augment_mesh};
+use crate::eval::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
+use crate::model::tokens::{VertexTokens, build_tokens};
 use crate::model::weights::{TensorMap, WeightsError, load_module};
 use crate::model::{MeshVae, Posterior, Trace, VaeConfig, seeded_init, spacetime_distances};
+use crate::pipeline::shipped::is_encoder_side;
 use crate::rng::Rng;
-use crate::shipped::is_encoder_side;
-use crate::tokens::{VertexTokens, build_tokens};
 
 /// Everything that defines a training run; saved in the checkpoint and the weights manifest.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -60,7 +60,7 @@ pub struct VaeTrainConfig {
     pub scale_jitter: f32,
     /// Train the decoder side only (post-KL projection, decoder, heads), starting from given
     /// weights: the encoder, and so every latent a DiT was trained on, stays bit for bit as it
-    /// was, and the DiT keeps fitting the VAE ([`crate::shipped::latent_space_sha256`]).
+    /// was, and the DiT keeps fitting the VAE ([`crate::pipeline::shipped::latent_space_sha256`]).
     #[serde(default)]
     pub decoder_only: bool,
 }

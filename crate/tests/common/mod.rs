@@ -120,7 +120,7 @@ pub fn max_abs_diff(a: &[f32], b: &[f32]) -> f32 {
 pub fn canonical_faces(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
     let mut out: Vec<[u32; 3]> = faces
         .iter()
-        .map(|&f| meshflow::topology::rotate_min_first(f))
+        .map(|&f| meshflow::geometry::topology::rotate_min_first(f))
         .collect();
     out.sort_unstable();
     out

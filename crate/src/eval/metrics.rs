@@ -17,11 +17,11 @@ use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::mesh::MeshError;
-use crate::normalize::Normalization;
+use crate::geometry::mesh::MeshError;
+use crate::geometry::normalize::Normalization;
+use crate::geometry::sample::{MAX_SAMPLES, SampleError, sample_surface, subsample_indices};
+pub use crate::geometry::topology::TopologyReport;
 use crate::rng::Rng;
-use crate::sample::{MAX_SAMPLES, SampleError, sample_surface, subsample_indices};
-pub use crate::topology::TopologyReport;
 
 /// Why a metric cannot be computed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
@@ -283,7 +283,7 @@ fn normal_consistency(m: &Matching, na: &[Vec3], nb: &[Vec3]) -> f64 {
 /// longest side to [-0.5, 0.5], centred; the same transform for the prediction), then
 /// `opts.samples` points are sampled uniformly by area on each surface with the seeds of
 /// [`CompareOptions::sample_seeds`]. A side without faces (a point cloud) uses its own points,
-/// subsampled to `opts.samples` by [`crate::sample::subsample_indices`]; its normals are its per-vertex normals
+/// subsampled to `opts.samples` by [`crate::geometry::sample::subsample_indices`]; its normals are its per-vertex normals
 /// if it has them, otherwise normal consistency is `None`.
 ///
 /// Noise floor: two independent samples of the same surface are not at distance 0. For `n`
@@ -379,8 +379,8 @@ pub struct EdgeScores {
 /// `P + R = 0`. So two empty sets score 1, 1, 1 and one empty set against a non-empty one
 /// scores F1 = 0.
 pub fn edge_scores(predicted: &[[u32; 2]], actual: &[[u32; 2]]) -> EdgeScores {
-    let p = crate::topology::canonical_edges(predicted);
-    let a = crate::topology::canonical_edges(actual);
+    let p = crate::geometry::topology::canonical_edges(predicted);
+    let a = crate::geometry::topology::canonical_edges(actual);
     let true_positives = p.iter().filter(|e| a.binary_search(e).is_ok()).count();
     let both_empty = p.is_empty() && a.is_empty();
     let ratio = |num: usize, den: usize| {
@@ -442,7 +442,7 @@ pub fn normal_distance(pred_normals: &[Vec3], gt_normals: &[Vec3]) -> Result<f64
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid, icosphere, octahedron};
+    use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
 
     fn brute(a: &[Vec3], b: &[Vec3]) -> Distances {
         let one = |from: &[Vec3], to: &[Vec3]| {

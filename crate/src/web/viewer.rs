@@ -7,11 +7,11 @@
 use burn::tensor::wgpu::{WgpuSetup, wgpu};
 use glam::Vec3;
 
-use crate::camera::OrbitCamera;
+use crate::web::camera::OrbitCamera;
 use wasm_bindgen::prelude::*;
 use wgpu::util::DeviceExt;
 
-const SHADER: &str = include_str!("../../shaders/viewer.wgsl");
+const SHADER: &str = include_str!("../../../shaders/viewer.wgsl");
 const DEPTH: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Point squares and wireframe lines, in pixels.
 const POINT_SIZE: f32 = 2.0;

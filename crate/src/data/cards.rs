@@ -36,7 +36,7 @@ use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
 use crate::Mesh;
-use crate::topology::EdgeIncidence;
+use crate::geometry::topology::EdgeIncidence;
 
 /// Largest angle between the normals of two faces of one flat region, in degrees.
 pub const PLANE_ANGLE_DEG: f64 = 1.0;
@@ -283,7 +283,7 @@ pub(crate) fn push_quad(mesh: &mut Mesh, center: glam::Vec3, u: glam::Vec3, v: g
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid, icosphere};
+    use crate::geometry::primitives::{cube, grid, icosphere};
     use glam::Vec3;
 
     /// `n` vertical cards crossing at the vertical axis (a billboard tree), each a quad,

@@ -14,7 +14,7 @@
 //!    spread out along the surface.
 //! 2. **Move, unless it folds.** Every vertex moves to its target; then any face whose normal
 //!    turned by 90 degrees or more, or that lost its area, and any pair of faces on an edge that
-//!    now close onto each other ([`crate::manifold::FOLD_COS`]) when they did not before,
+//!    now close onto each other ([`crate::extract::manifold::FOLD_COS`]) when they did not before,
 //!    shortens the moves of its vertices: half way, a quarter, then not at all, until no face
 //!    is flipped or folded. Each pass shortens at least one move, so it ends, at worst where
 //!    the iteration began.
@@ -31,9 +31,9 @@ use rstar::RTree;
 use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
-use crate::budget::{covariance, symmetric_eigenvalues};
-use crate::manifold::{FOLD_COS, unit_normal};
-use crate::topology::Edge;
+use crate::extract::manifold::{FOLD_COS, unit_normal};
+use crate::geometry::topology::Edge;
+use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -126,7 +126,7 @@ pub fn fit_to_points(
     let pairs = face_pairs(faces);
     let k = opts.neighbours.max(3);
     let ring = if opts.smoothing > 0.0 {
-        crate::topology::adjacency(vertices, &crate::topology::edges(faces))
+        crate::geometry::topology::adjacency(vertices, &crate::geometry::topology::edges(faces))
     } else {
         vec![Vec::new(); vertices]
     };

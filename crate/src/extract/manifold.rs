@@ -17,7 +17,7 @@
 //!      3-cliques; the third one accepted would lie folded over the first two, which is what
 //!      the overlapping sheets of Algorithm 1 are made of.)
 //!    - with `overlap_tolerance` above 0, it does not lie on an accepted face that it shares
-//!      at most one vertex with ([`crate::overlap`]: a second layer);
+//!      at most one vertex with ([`crate::extract::overlap`]: a second layer);
 //!    - and it can be wound consistently with its edge-neighbours. Accepted faces form pieces,
 //!      each consistently wound up to one flip of the whole piece; a candidate joining pieces
 //!      whose windings disagree flips one of them, and is refused only when two neighbours in
@@ -52,9 +52,9 @@ use std::collections::{HashMap, HashSet};
 
 use glam::Vec3;
 
-use crate::disjoint_sets::DisjointSets;
-use crate::overlap::FaceLayers;
-use crate::topology::{self, Edge, rotate_min_first, sorted_face};
+use crate::extract::overlap::FaceLayers;
+use crate::geometry::disjoint_sets::DisjointSets;
+use crate::geometry::topology::{self, Edge, rotate_min_first, sorted_face};
 
 /// Smallest cosine allowed between the normals of two faces that share an edge (consistently
 /// wound). -0.8 rejects faces that close onto a neighbour at less than about 37 degrees
@@ -75,7 +75,7 @@ pub struct ManifoldOptions {
     /// Remove connected pieces with fewer faces than this (0 or 1: keep every piece).
     pub min_component_faces: usize,
     /// Refuse a face lying on an accepted one that shares at most one vertex with it, within
-    /// this many of its longest edges of its plane ([`crate::overlap`]; 0: no such test).
+    /// this many of its longest edges of its plane ([`crate::extract::overlap`]; 0: no such test).
     pub overlap_tolerance: f32,
 }
 
@@ -635,7 +635,7 @@ fn edge_pieces(faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::topology::TopologyReport;
+    use crate::geometry::topology::TopologyReport;
 
     fn square() -> Vec<Vec3> {
         vec![
@@ -684,7 +684,7 @@ mod tests {
     #[test]
     fn holes_are_filled_against_their_border_and_lone_triangles_are_not_doubled() {
         // An octahedron without one face: the 3-loop is filled, wound like its neighbours.
-        let o = crate::primitives::octahedron();
+        let o = crate::geometry::primitives::octahedron();
         let open: Vec<[u32; 3]> = o.faces[1..].to_vec();
         let scores = vec![1.0; open.len()];
         let (faces, r) = manifold_faces(&o.positions, &open, &scores, &OPTS);

@@ -1,6 +1,6 @@
 //! Training-time augmentation.
 //!
-//! The shards hold each mesh once, in the Y-up model frame ([`crate::dataset`]); every pass
+//! The shards hold each mesh once, in the Y-up model frame ([`crate::data::dataset`]); every pass
 //! over them sees a different random variant, drawn here rather than stored:
 //!
 //! 1. a rotation about the up axis (+Y) by a uniform angle (the shards' up axis is already
@@ -25,10 +25,10 @@
 use glam::{DVec3, Vec3};
 
 use crate::Mesh;
-use crate::normalize::Normalization;
-use crate::normals::vertex_normals;
+use crate::geometry::normalize::Normalization;
+use crate::geometry::normals::vertex_normals;
+use crate::geometry::sample::{SampleError, SurfaceSamples, sample_surface};
 use crate::rng::Rng;
-use crate::sample::{SampleError, SurfaceSamples, sample_surface};
 
 /// What [`augment`] draws and samples.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -187,8 +187,8 @@ fn transform(mesh: &Mesh, opts: &AugmentOptions, rng: &mut Rng) -> (Mesh, Augmen
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::normals::face_normal;
-    use crate::primitives::{cube, icosphere};
+    use crate::geometry::normals::face_normal;
+    use crate::geometry::primitives::{cube, icosphere};
     use crate::rng::Rng;
     use proptest::prelude::*;
 
@@ -216,7 +216,7 @@ mod tests {
     }
 
     fn edge_lengths(m: &Mesh) -> Vec<f64> {
-        crate::topology::edges(&m.faces)
+        crate::geometry::topology::edges(&m.faces)
             .iter()
             .map(|&[a, b]| {
                 (m.positions[a as usize].as_dvec3() - m.positions[b as usize].as_dvec3()).length()

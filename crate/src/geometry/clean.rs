@@ -14,7 +14,7 @@
 //! 2. **Degenerate faces** are dropped: a face with a repeated vertex (after welding) or whose
 //!    cross product `(b - a) x (c - a)` (in `f32`, on the welded positions) has length
 //!    `<= degenerate_tolerance * L^2` (default `1e-10`, the threshold
-//!    [`crate::topology::is_degenerate`] uses, so a cleaned mesh reports no degenerate faces).
+//!    [`crate::geometry::topology::is_degenerate`] uses, so a cleaned mesh reports no degenerate faces).
 //! 3. **Duplicate faces** (the same three vertices in the same cyclic orientation) are dropped,
 //!    keeping the first.
 //! 4. **Back-to-back faces** (the same three vertices in the opposite orientation, i.e. a
@@ -38,8 +38,8 @@ use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::disjoint_sets::DisjointSets;
-use crate::topology::{DEGENERATE_TOLERANCE, is_degenerate};
+use crate::geometry::disjoint_sets::DisjointSets;
+use crate::geometry::topology::{DEGENERATE_TOLERANCE, is_degenerate};
 
 /// Tunables of [`clean`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -226,8 +226,8 @@ pub fn clean(mesh: &Mesh, opts: &CleanOptions) -> (Mesh, CleanReport) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid, icosphere, octahedron};
-    use crate::topology::TopologyReport;
+    use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
+    use crate::geometry::topology::TopologyReport;
 
     /// Every face gets its own three vertices, as STL stores them.
     fn explode(m: &Mesh) -> Mesh {

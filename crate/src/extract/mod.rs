@@ -3,7 +3,7 @@
 //! Two methods share steps 1, 2 and 7 below. The default, [`ExtractMethod::Manifold`], takes
 //! the 3-cliques of step 3 as candidates and accepts them best-first by the model's edge
 //! margins into a manifold, consistently wound mesh, then fills small holes and drops tiny
-//! pieces ([`crate::manifold`]). On edge embeddings its candidates come from the pairs above
+//! pieces ([`crate::extract::manifold`]). On edge embeddings its candidates come from the pairs above
 //! `tau - candidate_slack` (default 0.3): those with an edge below tau rank after all the
 //! others and only close gaps where the decoder missed an edge. [`ExtractMethod::Paper`] is the paper's Algorithm 1 exactly
 //! (steps 1-7), for comparing with the paper and the reference:
@@ -17,7 +17,7 @@
 //!    geometric normal (b - a) x (c - a) points against the normalised mean of the three vertex
 //!    normals (negative dot product); either normal falls back to +z when its length is <= 1e-8.
 //! 5. Optional hole repair: the edges used by exactly one face form loops
-//!    ([`crate::topology::boundary_loops`]); a loop of at most `max_hole_edges` vertices is
+//!    ([`crate::geometry::topology::boundary_loops`]); a loop of at most `max_hole_edges` vertices is
 //!    fan-triangulated from its first vertex, and the new faces get the same winding rule. The
 //!    paper fills quads only (k < 5, our default 4); the reference allows 10 or 20, which
 //!    over-fills open borders.
@@ -28,14 +28,21 @@
 //! The edge list is the seam between the threshold and the rest: [`spacetime_edges`] is the CPU
 //! threshold; a GPU kernel can produce the same list and call [`extract_mesh`] directly.
 
+pub mod manifold;
+pub mod overlap;
+#[cfg(feature = "wgpu")]
+pub mod threshold_gpu;
+
 use std::collections::HashMap;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::manifold::{ManifoldOptions, manifold_faces};
-use crate::topology::{self, Edge, EdgeIncidence, boundary_loops, face_edges, sorted_face};
+use crate::extract::manifold::{ManifoldOptions, manifold_faces};
+use crate::geometry::topology::{
+    self, Edge, EdgeIncidence, boundary_loops, face_edges, sorted_face,
+};
 
 /// The paper's edge threshold on the spacetime distance.
 pub const TAU: f32 = 0.6;
@@ -45,7 +52,7 @@ pub const TAU: f32 = 0.6;
 #[serde(rename_all = "lowercase")]
 pub enum ExtractMethod {
     /// Candidate 3-cliques accepted best-first into a manifold, consistently wound mesh
-    /// ([`crate::manifold`]); the default.
+    /// ([`crate::extract::manifold`]); the default.
     #[default]
     Manifold,
     /// The paper's Algorithm 1: every 3-clique is a face.
@@ -78,9 +85,9 @@ pub struct ExtractOptions {
     pub candidate_slack: f32,
     /// Manifold method only: refuse a face lying on an accepted face it shares at most one
     /// vertex with, within this many of its longest edges of its plane (a second layer;
-    /// [`crate::overlap`]). 0 (the default) turns the test off: on the decoder's own faces it
+    /// [`crate::extract::overlap`]). 0 (the default) turns the test off: on the decoder's own faces it
     /// refuses true ones too (validation CD x100 5.57 -> 6.53 at 0.5); surface completion
-    /// ([`crate::complete`]) applies its own. Must be >= 0.
+    /// ([`crate::surface::complete`]) applies its own. Must be >= 0.
     pub overlap_tolerance: f32,
     /// Remove vertices that no face uses and renumber the rest (keeping their order).
     pub compact: bool,
@@ -415,7 +422,7 @@ fn threshold_rows_any(b: &ThresholdBlock, edges: &mut Vec<Edge>) {
     }
 }
 
-/// Normalises a messy edge list ([`crate::topology::canonical_edges`]) after checking that
+/// Normalises a messy edge list ([`crate::geometry::topology::canonical_edges`]) after checking that
 /// every edge names one of `num_vertices` vertices.
 pub fn canonical_edges(edges: &[Edge], num_vertices: usize) -> Result<Vec<Edge>, ExtractError> {
     if let Some(&[a, b]) = edges
@@ -478,7 +485,7 @@ pub fn triangles_of_edges(num_vertices: usize, edges: &[Edge]) -> Vec<[u32; 3]> 
     faces
 }
 
-/// f32 on purpose (unlike [`crate::normals`]): the winding decision mirrors the reference's f32
+/// f32 on purpose (unlike [`crate::geometry::normals`]): the winding decision mirrors the reference's f32
 /// arithmetic so near-degenerate faces turn out the same way.
 fn unit_or_z(v: Vec3) -> Vec3 {
     let len = v.length();
@@ -865,8 +872,8 @@ pub fn extract_from_decoded(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{grid, icosphere, octahedron};
-    use crate::topology::{TopologyReport, edges, rotate_min_first};
+    use crate::geometry::primitives::{grid, icosphere, octahedron};
+    use crate::geometry::topology::{TopologyReport, edges, rotate_min_first};
 
     /// The web API passes options as JSON: a partial object takes the defaults for the rest,
     /// and a misspelt field is an error rather than silently ignored.
@@ -885,7 +892,7 @@ mod tests {
     }
 
     fn area_weighted_normals(m: &Mesh) -> Vec<Vec3> {
-        crate::normals::vertex_normals(&m.positions, &m.faces)
+        crate::geometry::normals::vertex_normals(&m.positions, &m.faces)
     }
 
     fn roundtrip(m: &Mesh, opts: &ExtractOptions) -> (Mesh, ExtractReport) {

@@ -147,8 +147,8 @@ impl UpAxis {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::normals::face_normal;
-    use crate::primitives::{grid, icosphere};
+    use crate::geometry::normals::face_normal;
+    use crate::geometry::primitives::{grid, icosphere};
 
     #[test]
     fn up_axis_rotation_is_proper_and_keeps_winding() {

@@ -5,7 +5,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::disjoint_sets::DisjointSets;
+use crate::geometry::disjoint_sets::DisjointSets;
 
 /// An undirected edge as a sorted pair `[i, j]` with `i < j`.
 pub type Edge = [u32; 2];
@@ -331,7 +331,7 @@ impl TopologyReport {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid, icosphere, octahedron};
+    use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
 
     #[test]
     fn closed_primitives_are_clean() {

@@ -3,15 +3,15 @@
 //!
 //! 1. **Condition**: the input points (a mesh is surface-sampled first, [`input_points`]) are
 //!    mapped into the model frame by their bounding box; the vertex budget is the caller's or
-//!    [`crate::budget::DEFAULT_RULE`]'s; latent RoPE positions come from
-//!    [`crate::condition::inference_positions`].
+//!    [`crate::pipeline::budget::DEFAULT_RULE`]'s; latent RoPE positions come from
+//!    [`crate::model::condition::inference_positions`].
 //! 2. **Sample**: seeded Gaussian noise integrated by the Euler sampler with the DiT.
 //! 3. **Decode**: latents are de-normalised with the VAE manifest's mean/std and decoded.
 //! 4. **Extract**: faces from the decoded vertices and edges ([`crate::extract`]: the manifold
 //!    extraction by default, Algorithm 1 on request). For Algorithm 1 on a wgpu device the
 //!    spacetime threshold runs there (`threshold_gpu`) and only the edge bits are read back;
 //!    otherwise the embeddings are read back and thresholded on the host.
-//! 5. **Fit**: the vertices are moved onto the input points' surface ([`crate::fit`]), then
+//! 5. **Fit**: the vertices are moved onto the input points' surface ([`crate::surface::fit`]), then
 //!    the mesh goes back to the input's frame.
 
 use burn::tensor::{Device, Int, Tensor, TensorData};
@@ -20,22 +20,22 @@ use serde::{Deserialize, Serialize};
 use web_time::Instant;
 
 use crate::Mesh;
-use crate::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
-use crate::complete::{CompleteOptions, CompleteReport, complete_surface};
-use crate::condition::{inference_positions, vertex_condition};
 use crate::extract::{
     DecodedEdges, DecodedVertices, ExtractMethod, ExtractOptions, ExtractReport,
     extract_from_decoded,
 };
-use crate::fit::{FitOptions, FitReport, fit_to_points};
+use crate::geometry::normalize::Normalization;
+use crate::geometry::sample::{sample_surface, subsample_points};
+use crate::geometry::topology::TopologyReport;
+use crate::model::condition::{inference_positions, vertex_condition};
 use crate::model::dit::{Dit, DitConfig, Rope};
 use crate::model::sampler::{SampleError, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
 use crate::model::{MeshVae, Trace, VaeConfig};
-use crate::normalize::Normalization;
+use crate::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::rng::Rng;
-use crate::sample::{sample_surface, subsample_points};
-use crate::topology::TopologyReport;
+use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
+use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
 
 /// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
 pub const CONDITION_POINTS: usize = 4096;
@@ -76,7 +76,7 @@ pub enum GenerateError {
     #[error(transparent)]
     Sampling(#[from] SampleError),
     #[error(transparent)]
-    Surface(#[from] crate::sample::SampleError),
+    Surface(#[from] crate::geometry::sample::SampleError),
     #[error(transparent)]
     Extract(#[from] crate::extract::ExtractError),
     #[error("the VAE makes {vae:?} latents but the DiT takes {dit:?}")]
@@ -158,7 +158,7 @@ pub fn input_points(input: &Mesh, seed: u64) -> Result<Vec<Vec3>, GenerateError>
     if !input.faces.is_empty() {
         match sample_surface(input, CONDITION_POINTS, seed) {
             Ok(s) => return Ok(s.points),
-            Err(crate::sample::SampleError::ZeroArea { .. }) => {}
+            Err(crate::geometry::sample::SampleError::ZeroArea { .. }) => {}
             Err(e) => return Err(e.into()),
         }
     }
@@ -608,12 +608,12 @@ impl<'a> Generator<'a> {
 }
 
 impl<'a> Generator<'a> {
-    /// A generator over shipped models and their manifests ([`crate::shipped`]).
+    /// A generator over shipped models and their manifests ([`crate::pipeline::shipped`]).
     pub fn from_shipped(
         vae: &'a MeshVae,
-        vae_manifest: &'a crate::shipped::VaeManifest,
+        vae_manifest: &'a crate::pipeline::shipped::VaeManifest,
         dit: &'a Dit,
-        dit_manifest: &'a crate::shipped::DitManifest,
+        dit_manifest: &'a crate::pipeline::shipped::DitManifest,
         device: &'a Device,
     ) -> Self {
         Self::new(
@@ -665,7 +665,7 @@ fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
 fn edges_on_device(embeddings: Tensor<3>, mask_logits: Tensor<3>, tau: f32) -> DeviceEdges {
     // Not on a wgpu device (or too large for one dispatch): the host thresholds instead, and
     // reports bad shapes with a typed error.
-    match crate::threshold_gpu::spacetime_edge_bits(embeddings.clone(), mask_logits, tau) {
+    match crate::extract::threshold_gpu::spacetime_edge_bits(embeddings.clone(), mask_logits, tau) {
         Ok(bits) => DeviceEdges::Bits(bits),
         Err(_) => DeviceEdges::Embeddings(embeddings),
     }

@@ -2,7 +2,7 @@
 //!
 //! Rules, all implemented here and nowhere else:
 //! - **Frame.** The mesh must already be in the model frame [-1, 1]
-//!   ([`crate::normalize::Normalization::to_model_frame`]) and cleaned ([`crate::clean`]);
+//!   ([`crate::geometry::normalize::Normalization::to_model_frame`]) and cleaned ([`crate::geometry::clean`]);
 //!   [`build_tokens`] does not normalise.
 //! - **Order.** Real vertices become tokens in [`vertex_order`]: ascending `(z, y, x)` compared
 //!   with `f32::total_cmp`, ties by original index (MeshGPT-style, deterministic). The order
@@ -34,10 +34,10 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::mesh::MeshError;
-use crate::normals::vertex_normals;
+use crate::geometry::mesh::MeshError;
+use crate::geometry::normals::vertex_normals;
+use crate::geometry::topology;
 use crate::rng::Rng;
-use crate::topology;
 
 /// Shape of the token tensor.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -262,7 +262,7 @@ pub fn build_tokens(mesh: &Mesh, cfg: &TokenConfig, seed: u64) -> Result<VertexT
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{grid, icosphere, octahedron};
+    use crate::geometry::primitives::{grid, icosphere, octahedron};
 
     #[test]
     fn channel_counts() {

@@ -48,7 +48,7 @@ pub fn face_normal(tri: [Vec3; 3]) -> Vec3 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid, icosphere, octahedron};
+    use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
 
     #[test]
     fn sphere_normals_point_outward() {

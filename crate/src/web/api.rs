@@ -3,7 +3,7 @@
 //! plainly through [`MeshFlow::backend`]), and write GLB / OBJ. Every failure is a JS
 //! exception with a message; a panic hook reports the unexpected in the console.
 //!
-//! Generation drives the same stages as the CLI ([`crate::generate::Generator`]) but reads
+//! Generation drives the same stages as the CLI ([`crate::pipeline::generate::Generator`]) but reads
 //! back asynchronously, and waits for the GPU after every Euler step, so the page can show
 //! real progress and cancel between steps.
 
@@ -13,17 +13,17 @@ use glam::Vec3;
 use wasm_bindgen::prelude::*;
 use web_time::Instant;
 
-use crate::generate::{
-    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    read_bits,
-};
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::MeshVae;
 use crate::model::dit::Dit;
 use crate::model::sampler::euler_step;
 use crate::model::schedule::step_times;
-use crate::shipped::{DitManifest, VaeManifest, load_dit, load_vae};
-use crate::viewer::Viewer;
+use crate::pipeline::generate::{
+    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
+    read_bits,
+};
+use crate::pipeline::shipped::{DitManifest, VaeManifest, load_dit, load_vae};
+use crate::web::viewer::Viewer;
 
 #[wasm_bindgen(start)]
 fn start() {
@@ -273,7 +273,7 @@ impl GeneratedMesh {
     #[wasm_bindgen(getter)]
     pub fn normals(&self) -> Vec<f32> {
         let m = &self.generated.mesh;
-        crate::normals::vertex_normals(&m.positions, &m.faces)
+        crate::geometry::normals::vertex_normals(&m.positions, &m.faces)
             .iter()
             .flat_map(|n| n.to_array())
             .collect()
@@ -351,7 +351,7 @@ impl InputPoints {
 /// Reads a point cloud or mesh file (PLY, OBJ, STL, GLB/glTF, XYZ and the CLI's other
 /// formats; the format comes from `file_name`'s extension, else from the bytes) into the
 /// points to condition on: a mesh's surface samples, or a point cloud's points (an even random
-/// subsample of [`crate::generate::CONDITION_POINTS`] when there are more, as the CLI does).
+/// subsample of [`crate::pipeline::generate::CONDITION_POINTS`] when there are more, as the CLI does).
 #[wasm_bindgen(js_name = readInput)]
 pub fn read_input(bytes: &[u8], file_name: &str) -> Result<InputPoints, JsError> {
     let format = Format::from_path(std::path::Path::new(file_name))

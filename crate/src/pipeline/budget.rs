@@ -19,8 +19,8 @@ use rstar::RTree;
 use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::voxel::voxel_index;
 use crate::rng::Rng;
-use crate::voxel::voxel_index;
 
 /// Neighbours per local covariance.
 const NEIGHBOURS: usize = 16;
@@ -225,8 +225,8 @@ fn solve3(mut a: [[f64; 3]; 3], mut b: [f64; 3]) -> Option<[f64; 3]> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{cube, grid};
-    use crate::sample::sample_surface;
+    use crate::geometry::primitives::{cube, grid};
+    use crate::geometry::sample::sample_surface;
 
     #[test]
     fn eigenvalues_of_a_known_matrix() {

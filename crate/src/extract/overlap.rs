@@ -21,7 +21,7 @@ use glam::{Vec2, Vec3};
 use rstar::primitives::{GeomWithData, Rectangle};
 use rstar::{AABB, RTree};
 
-use crate::manifold::unit_normal;
+use crate::extract::manifold::unit_normal;
 
 type Boxed = GeomWithData<Rectangle<[f32; 3]>, [u32; 3]>;
 

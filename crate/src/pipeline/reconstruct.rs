@@ -10,16 +10,16 @@ use glam::Vec3;
 use serde::Serialize;
 
 use crate::Mesh;
-use crate::clean::{CleanOptions, clean};
+use crate::eval::metrics::{
+    CompareOptions, Comparison, compare_meshes, edge_scores, normal_distance, vertex_distance,
+};
 use crate::extract::{
     DecodedEdges, DecodedVertices, ExtractOptions, ExtractReport, extract_from_decoded,
 };
-use crate::metrics::{
-    CompareOptions, Comparison, compare_meshes, edge_scores, normal_distance, vertex_distance,
-};
+use crate::geometry::clean::{CleanOptions, clean};
+use crate::geometry::normalize::Normalization;
+use crate::model::tokens::{TokenError, VertexTokens, build_tokens};
 use crate::model::{MeshVae, Trace, VaeConfig, spacetime_distances};
-use crate::normalize::Normalization;
-use crate::tokens::{TokenError, VertexTokens, build_tokens};
 
 /// Why a mesh could not be reconstructed.
 #[derive(Debug, thiserror::Error)]
@@ -31,7 +31,7 @@ pub enum ReconstructError {
     #[error(transparent)]
     Extract(#[from] crate::extract::ExtractError),
     #[error(transparent)]
-    Metrics(#[from] crate::metrics::MetricsError),
+    Metrics(#[from] crate::eval::metrics::MetricsError),
     #[error("reading back from the device failed: {0}")]
     Readback(String),
 }

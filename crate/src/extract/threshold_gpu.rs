@@ -12,7 +12,7 @@ use burn_cubecl::cubecl::{CubeKernel, PrecompiledSource};
 use burn_cubecl::{Cube, kernel::into_contiguous, tensor::CubeTensor};
 
 /// The kernel's text; it is part of the binary, so its type identifies it.
-const SOURCE: &str = include_str!("../../shaders/spacetime_threshold.wgsl");
+const SOURCE: &str = include_str!("../../../shaders/spacetime_threshold.wgsl");
 /// `@workgroup_size` in [`SOURCE`].
 const WORKGROUP: u32 = 64;
 /// WebGPU's guaranteed `maxComputeWorkgroupsPerDimension`.

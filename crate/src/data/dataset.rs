@@ -8,7 +8,7 @@
 //!
 //! A shard is one [safetensors](https://huggingface.co/docs/safetensors) file holding `M`
 //! meshes, all already cleaned, rotated to Y-up and normalised to the model frame (longest
-//! bounding-box side spanning [-1, 1], centred; see [`crate::normalize`]):
+//! bounding-box side spanning [-1, 1], centred; see [`crate::geometry::normalize`]):
 //!
 //! | tensor           | dtype | shape            | content                                       |
 //! |------------------|-------|------------------|-----------------------------------------------|
@@ -41,10 +41,10 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::cards::card_area_share;
-use crate::clean::CleanReport;
-use crate::normalize::UpAxis;
-use crate::topology::{TopologyReport, adjacency, edges};
+use crate::data::cards::card_area_share;
+use crate::geometry::clean::CleanReport;
+use crate::geometry::normalize::UpAxis;
+use crate::geometry::topology::{TopologyReport, adjacency, edges};
 
 /// The `format` value in a shard's metadata.
 pub const SHARD_FORMAT: &str = "meshflow-shard";
@@ -581,7 +581,7 @@ pub struct FilterOptions {
     /// Smallest bounding-box side relative to the largest (removes billboards and decals).
     pub min_aspect: f32,
     /// Largest share of the area that may lie in billboard cards
-    /// ([`crate::cards::card_area_share`]); a mesh at or above it is rejected.
+    /// ([`crate::data::cards::card_area_share`]); a mesh at or above it is rejected.
     pub card_max_share: f32,
     /// Most faces a flat free sheet may have to count as a card (a quad is 2).
     pub card_max_faces: usize,
@@ -610,7 +610,7 @@ pub enum FilterReason {
     TooFewFaces,
     Flat,
     DegreeTooHigh,
-    /// Mostly billboard cards: crossed or free-standing quads (see [`crate::cards`]).
+    /// Mostly billboard cards: crossed or free-standing quads (see [`crate::data::cards`]).
     Card,
 }
 
@@ -712,7 +712,7 @@ pub fn split_of(key: &str) -> Split {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{grid, icosphere, octahedron};
+    use crate::geometry::primitives::{grid, icosphere, octahedron};
     use proptest::prelude::*;
 
     fn sample_meshes() -> Vec<Mesh> {
@@ -961,7 +961,7 @@ mod tests {
 
     #[test]
     fn crossed_billboards_are_cards_but_boxes_are_not() {
-        use crate::cards::push_quad;
+        use crate::data::cards::push_quad;
         let f = FilterOptions::default();
         // A billboard tree: ten vertical quads crossing at the trunk's axis (20 faces); its
         // bounding box is not flat.
@@ -977,9 +977,9 @@ mod tests {
         }
         assert_eq!(filter(&tree, &f), Err(FilterReason::Card));
         // Ordinary low-poly solids of big flat faces pass: a subdivided box ...
-        let (box_mesh, _) = crate::clean::clean(
-            &subdivide(&subdivide(&crate::primitives::cube())),
-            &crate::clean::CleanOptions::default(),
+        let (box_mesh, _) = crate::geometry::clean::clean(
+            &subdivide(&subdivide(&crate::geometry::primitives::cube())),
+            &crate::geometry::clean::CleanOptions::default(),
         );
         assert!(box_mesh.faces.len() >= 20);
         assert!(filter(&box_mesh, &f).is_ok());

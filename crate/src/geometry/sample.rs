@@ -191,7 +191,7 @@ pub fn subsample_indices(len: usize, count: usize, seed: u64) -> Vec<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::primitives::{grid, icosphere};
+    use crate::geometry::primitives::{grid, icosphere};
 
     /// Barycentric coordinates of `p` in triangle `t` plus its distance to the triangle's plane.
     fn barycentric(p: Vec3, [a, b, c]: [Vec3; 3]) -> ([f64; 3], f64) {

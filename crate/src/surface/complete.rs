@@ -4,7 +4,7 @@
 //! A small model's edge scores miss many true edges, so the manifold extraction leaves a lace:
 //! fans and strips that touch at vertices, with a hole between almost every pair (27 holes a
 //! mesh on the test split), and some faces spanning air. The vertices themselves are mostly
-//! right, and after [`crate::fit`] they lie on the input's surface; what is missing is faces
+//! right, and after [`crate::surface::fit`] they lie on the input's surface; what is missing is faces
 //! between them. [`complete_surface`] offers the triangles a surface through those vertices
 //! would have, and lets the manifold extraction choose among them after the model's own faces:
 //!
@@ -29,7 +29,7 @@
 //! 5. **Choose.** The model's faces ranked `model_priority` votes ahead of the candidates
 //!    (infinite: all first; the default 0 ranks each by its own votes, so a model face the
 //!    surface disagrees with gives way to a better candidate), then the candidates, through
-//!    [`crate::manifold::manifold_faces`] (holes up to `max_hole_edges` edges filled, the
+//!    [`crate::extract::manifold::manifold_faces`] (holes up to `max_hole_edges` edges filled, the
 //!    overlap test at `overlap_tolerance`, small pieces dropped as the extraction does): a
 //!    candidate is accepted only if every edge keeps at most two faces, it does not fold onto
 //!    a neighbour or lie on another face, and it can be wound consistently with its
@@ -40,8 +40,8 @@
 //!    model's faces (input points far from the vertices, say), the model's mesh comes back
 //!    unchanged.
 //!
-//! Generation ([`crate::generate`]) then refines `refine_passes` times: fit again
-//! ([`crate::fit`], with a little `refine_smoothing` towards each vertex's neighbours) now that
+//! Generation ([`crate::pipeline::generate`]) then refines `refine_passes` times: fit again
+//! ([`crate::surface::fit`], with a little `refine_smoothing` towards each vertex's neighbours) now that
 //! the completed faces, not the model's sparse ones, decide which moves fold, and complete
 //! again with those faces as the "model's". Each pass moves the vertices that the first fit
 //! held back onto the surface and closes holes their old positions kept open (validation
@@ -59,12 +59,12 @@ use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
-use crate::clean::weld;
+use crate::extract::manifold::{ManifoldOptions, ManifoldReport, manifold_faces};
 use crate::extract::orient_face;
-use crate::fit::least_spread_direction;
-use crate::manifold::{ManifoldOptions, ManifoldReport, manifold_faces};
-use crate::normals::vertex_normals;
-use crate::topology::sorted_face;
+use crate::geometry::clean::weld;
+use crate::geometry::normals::vertex_normals;
+use crate::geometry::topology::sorted_face;
+use crate::surface::fit::least_spread_direction;
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -86,7 +86,7 @@ pub struct CompleteOptions {
     /// Weld vertices closer than this many median edges first (a decoder's near-duplicates
     /// make slivers that fold; 0: none).
     pub weld_ratio: f32,
-    /// The overlap test of the final choice ([`crate::overlap`]), in longest edges: with the
+    /// The overlap test of the final choice ([`crate::extract::overlap`]), in longest edges: with the
     /// vertices on the surface, a face lying on another one not next to it is a second layer.
     pub overlap_tolerance: f32,
     /// Close hole loops of at most this many edges afterwards (the extraction's own limit
@@ -100,9 +100,9 @@ pub struct CompleteOptions {
     /// plane than this sine of the angle (1 or more: none left out).
     pub max_slope: f32,
     /// Rounds of fitting and completing again after the first completion (in
-    /// [`crate::generate`]); 0: one completion.
+    /// [`crate::pipeline::generate`]); 0: one completion.
     pub refine_passes: usize,
-    /// The [`crate::fit::FitOptions::smoothing`] of those rounds' fits.
+    /// The [`crate::surface::fit::FitOptions::smoothing`] of those rounds' fits.
     pub refine_smoothing: f32,
     /// Offer only triangles that some vertex's local Delaunay triangulation has (step 4):
     /// fewer holes, a fifth of the surface tests.
@@ -457,7 +457,7 @@ fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::topology::TopologyReport;
+    use crate::geometry::topology::TopologyReport;
 
     const MANIFOLD: ManifoldOptions = ManifoldOptions {
         max_hole_edges: 4,

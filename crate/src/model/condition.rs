@@ -3,7 +3,7 @@
 //!
 //! Training and inference must give latent tokens statistically alike positions:
 //! - **Training** ([`latent_positions`]): latent `i` merges vertex tokens `r i .. r i + r`
-//!   (in [`crate::tokens::vertex_order`], ascending `(z, y, x)`); its position is the voxel of
+//!   (in [`crate::model::tokens::vertex_order`], ascending `(z, y, x)`); its position is the voxel of
 //!   the first of them. Padding latents hold copies of random real vertices.
 //! - **Inference** ([`inference_positions`]): for a budget of `V` vertices, pick `ceil(V / r)`
 //!   of the input's points by farthest-point sampling, order them by the same `(z, y, x)` rule,
@@ -21,9 +21,9 @@
 
 use glam::Vec3;
 
+use crate::geometry::voxel::voxel_index;
+use crate::model::tokens::{VertexTokens, vertex_order};
 use crate::rng::Rng;
-use crate::tokens::{VertexTokens, vertex_order};
-use crate::voxel::voxel_index;
 
 /// Voxel `[x, y, z]` of a model-frame point, as RoPE input (f32).
 fn rope_cell(p: Vec3) -> [f32; 3] {
@@ -104,9 +104,9 @@ pub fn vertex_condition(vertex_count: usize, num_latents: usize) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::normalize::Normalization;
-    use crate::primitives::icosphere;
-    use crate::tokens::{TokenConfig, build_tokens};
+    use crate::geometry::normalize::Normalization;
+    use crate::geometry::primitives::icosphere;
+    use crate::model::tokens::{TokenConfig, build_tokens};
 
     #[test]
     fn training_positions_follow_the_token_groups() {

@@ -1,5 +1,5 @@
 //! Reading a shard build from disk: its `manifest.jsonl` and the meshes of the
-//! `{split}-{k:05}.safetensors` shards it names ([`crate::dataset`] has the formats and parses
+//! `{split}-{k:05}.safetensors` shards it names ([`crate::data::dataset`] has the formats and parses
 //! shard bytes; this is the one place that finds and reads the files). Training, evaluation
 //! and `meshflow data` all read builds through it.
 
@@ -8,7 +8,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 
 use crate::Mesh;
-use crate::dataset::{DatasetError, ManifestEntry, Shard, Split};
+use crate::data::dataset::{DatasetError, ManifestEntry, Shard, Split};
 
 /// Why a shard build could not be read.
 #[derive(Debug, thiserror::Error)]

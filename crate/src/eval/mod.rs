@@ -1,0 +1,3 @@
+//! Evaluation: the paper's metrics (docs/design.md section 3).
+
+pub mod metrics;

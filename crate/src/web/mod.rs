@@ -1,0 +1,8 @@
+//! The browser side: the viewer's orbit camera, and on wasm32 with feature `web` the
+//! wasm-bindgen API (`api`) and the wgpu mesh viewer (`viewer`).
+
+#[cfg(all(target_arch = "wasm32", feature = "web"))]
+pub mod api;
+pub mod camera;
+#[cfg(all(target_arch = "wasm32", feature = "web"))]
+pub mod viewer;
