@@ -183,6 +183,14 @@ fn position_augment_draws_positions_as_inference_does() {
         max_missing: 0.4,
     };
     assert_eq!(never.positions(&example, &mut rng), example.positions);
+    // A chance or fraction outside [0, 1] is refused, naming the field.
+    assert!(never.validate().is_ok());
+    let too_likely = PositionAugment {
+        missing_probability: 1.5,
+        ..never
+    };
+    let err = too_likely.validate().unwrap_err();
+    assert!(err.contains("augment.missing_probability"), "{err}");
 
     // Without noise, every position is the voxel of one of the surface samples, one token per
     // 4 vertices are distinct farthest points (the padding tokens repeat them).

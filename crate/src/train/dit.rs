@@ -131,6 +131,20 @@ pub struct PositionAugment {
 }
 
 impl PositionAugment {
+    /// Every chance and fraction in [0, 1], naming the first field that is not.
+    pub fn validate(&self) -> Result<(), String> {
+        let unit = [
+            ("augment.probability", self.probability),
+            ("augment.max_noise", f64::from(self.max_noise)),
+            ("augment.missing_probability", self.missing_probability),
+            ("augment.max_missing", f64::from(self.max_missing)),
+        ];
+        match unit.iter().find(|(_, v)| !(0.0..=1.0).contains(v)) {
+            Some((name, v)) => Err(format!("{name} must be in [0, 1], got {v}")),
+            None => Ok(()),
+        }
+    }
+
     /// Token positions for `example`, drawn with `rng`: its own, or from its degraded surface.
     pub fn positions(&self, example: &LatentExample, rng: &mut Rng) -> Vec<[f32; 3]> {
         if example.surface.is_empty() || rng.next_f64() >= self.probability {
@@ -222,6 +236,9 @@ impl DitTrainConfig {
     /// offending field.
     pub fn validate(&self) -> Result<(), String> {
         self.model.validate()?;
+        if let Some(a) = &self.augment {
+            a.validate()?;
+        }
         super::check_schedule(
             &[
                 ("batch_size", self.batch_size),
