@@ -261,14 +261,22 @@ struct FlowBatch {
     rope: Rope,
 }
 
-/// `positions`: each example's token positions, one after the other.
+/// The tokens' RoPE positions are each example's own, or drawn by `augment` (first, from
+/// `rng`).
 fn flow_batch(
     examples: &[&LatentExample],
-    positions: &[[f32; 3]],
+    augment: Option<&PositionAugment>,
     cfg: &DitConfig,
     rng: &mut Rng,
     device: &Device,
 ) -> FlowBatch {
+    let positions: Vec<[f32; 3]> = examples
+        .iter()
+        .flat_map(|e| match augment {
+            Some(augment) => augment.positions(e, rng),
+            None => e.positions.clone(),
+        })
+        .collect();
     let (b, l, d) = (examples.len(), examples[0].positions.len(), cfg.latent_dim);
     let x0: Vec<f32> = examples
         .iter()
@@ -291,7 +299,7 @@ fn flow_batch(
         target: eps - x0,
         t,
         cond: Tensor::from_data(TensorData::new(cond, [b, 1]), device),
-        rope: Rope::new(positions, b, cfg.width / cfg.num_heads, device),
+        rope: Rope::new(&positions, b, cfg.width / cfg.num_heads, device),
     }
 }
 
@@ -323,8 +331,7 @@ pub fn validate_dit(
         .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
     for chunk in chunks {
         let refs: Vec<&LatentExample> = chunk.to_vec();
-        let positions: Vec<[f32; 3]> = refs.iter().flat_map(|e| e.positions.clone()).collect();
-        let batch = flow_batch(&refs, &positions, &cfg.model, &mut rng, device);
+        let batch = flow_batch(&refs, None, &cfg.model, &mut rng, device);
         sum += scalar(flow_loss(dit, &batch)) * chunk.len() as f64;
         n += chunk.len() as f64;
     }
@@ -378,14 +385,8 @@ impl Task for DitTask<'_> {
         let batch: Vec<&LatentExample> = std::iter::once(first)
             .chain((1..self.cfg.batch_size).map(|_| same[rng.below(same.len())]))
             .collect();
-        let positions: Vec<[f32; 3]> = batch
-            .iter()
-            .flat_map(|e| match &self.cfg.augment {
-                Some(augment) => augment.positions(e, rng),
-                None => e.positions.clone(),
-            })
-            .collect();
-        let fb = flow_batch(&batch, &positions, &self.cfg.model, rng, &self.ad_device);
+        let augment = self.cfg.augment.as_ref();
+        let fb = flow_batch(&batch, augment, &self.cfg.model, rng, &self.ad_device);
         let loss = flow_loss(&dit, &fb);
         let grads = GradientsParams::from_grads(loss.backward(), &dit);
         let (dit, grad_norm) = optim.step(optim_state, dit, grads, lr);
