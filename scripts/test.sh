@@ -11,7 +11,7 @@
 #                                           benches compiled and run once)
 #   cargo test --release --workspace --doc (--all-targets leaves doctests out)
 #   cargo clippy --workspace --all-targets -- -D warnings
-#   cargo doc --no-deps -p meshflow --features train
+#   cargo doc --no-deps -p meshflow --features train,data-build
 #             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
 #   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
 #   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web
@@ -131,7 +131,7 @@ check_clippy() { cargo clippy --workspace --all-targets -- -D warnings; }
 
 # The library's docs build with every intra-doc link resolved.
 check_docs() {
-    RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links" cargo doc --no-deps -p meshflow --features train
+    RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links" cargo doc --no-deps -p meshflow --features train,data-build
 }
 
 build_web() { bash scripts/build-web.sh; }

@@ -8,7 +8,6 @@ mod commands;
 mod data;
 mod extract_args;
 mod generate;
-mod plot;
 mod progress;
 mod train;
 mod train_dit;

@@ -2,7 +2,7 @@
 //! build (filter, duplicate keys, split).
 //!
 //! Nothing here touches the file system or spawns processes, so the same code reads shards
-//! natively and in the browser; `meshflow data build` (the CLI) does the I/O.
+//! natively and in the browser; the data build (`build`, feature `data-build`) does the I/O.
 //!
 //! # Shard layout (`meshflow-shard`, version 1)
 //!

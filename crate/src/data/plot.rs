@@ -3,8 +3,6 @@
 //! by an integer factor). Everything is integer arithmetic, so the same input
 //! always gives the same bytes.
 
-use anyhow::Result;
-
 /// Glyph cell: 5 columns, 7 rows above the baseline and 2 below for descenders.
 const GLYPH_W: usize = 5;
 const GLYPH_ROWS: usize = 9;
@@ -144,10 +142,12 @@ pub struct Canvas {
     px: Vec<u8>,
 }
 
+/// Text, ticks and axis lines.
 pub const BLACK: [u8; 3] = [0, 0, 0];
 const GRID: [u8; 3] = [225, 225, 225];
 
 impl Canvas {
+    /// A `width` x `height` canvas filled with `background`.
     pub fn new(width: usize, height: usize, background: [u8; 3]) -> Self {
         let mut px = Vec::with_capacity(width * height * 3);
         for _ in 0..width * height {
@@ -253,7 +253,7 @@ impl Canvas {
     }
 
     /// The image as an 8-bit RGB PNG (no timestamps or other varying chunks).
-    pub fn to_png(&self) -> Result<Vec<u8>> {
+    pub fn to_png(&self) -> Result<Vec<u8>, png::EncodingError> {
         let mut bytes = Vec::new();
         let mut enc = png::Encoder::new(&mut bytes, self.width as u32, self.height as u32);
         enc.set_color(png::ColorType::Rgb);
