@@ -101,6 +101,29 @@ pub fn vulkan() -> Result<Device, String> {
     Err("this build has no native wgpu backend (enable the `wgpu` feature)".into())
 }
 
+/// The CPU's model name (from `/proc/cpuinfo`; "unknown CPU" elsewhere), for benchmark and
+/// training records.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn cpu_name() -> String {
+    std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|t| {
+            t.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|s| s.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into())
+}
+
+/// The CPU and the threads available, as a training manifest or a benchmark records the
+/// machine: "`cpu_name`, N threads".
+#[cfg(not(target_arch = "wasm32"))]
+pub fn machine_description() -> String {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    format!("{}, {cores} threads", cpu_name())
+}
+
 #[cfg(test)]
 mod tests {
     use super::BackendKind;

@@ -20,7 +20,9 @@
 //!   union-find, voxel indices for the DiT's RoPE-3D, test primitives.
 //! - [`data`]: the shard format, manifest, filter and split rules; reading a build from disk
 //!   (`shards`, not on wasm32); the billboard-card measure; training-time augmentation;
-//!   noisy and partial point clouds for the robustness figures.
+//!   noisy and partial point clouds for the robustness figures; with feature `data-build`,
+//!   the data build itself (fetch the allowed packages, read, clean, filter, split, write
+//!   shards, subset, statistics).
 //! - [`model`]: the MeshVAE's per-vertex tokens, where the DiT's latent tokens sit, the
 //!   MeshVAE, the DiT, their layers, sampler, schedule and weight loading.
 //! - [`extract`]: spacetime edge threshold, then edges -> faces by the manifold method
@@ -29,12 +31,16 @@
 //! - [`surface`]: generated vertices moved onto the input points without folding faces
 //!   (`fit`), and the surface completed between them (`complete`).
 //! - [`pipeline`]: the default vertex budget, generation (point cloud -> DiT sampling -> VAE
-//!   decode -> mesh), reconstruction through the MeshVAE, the shipped weights' manifests.
-//! - `train` (feature `train`): the training loop both models share, and each one's step.
-//! - [`eval`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances.
+//!   decode -> mesh), reconstruction through the MeshVAE, the shipped weights (manifests,
+//!   loading and checking the pair, finding and writing weights folders).
+//! - `train` (feature `train`): the training loop both models share, each one's step, the
+//!   named configurations, runs that end in shippable weights, and the step profiler.
+//! - [`eval`]: Chamfer / Hausdorff distance, normal consistency, edge F1, vertex distances;
+//!   natively also the evaluations over sets of meshes (`eval vae`, `eval generate`,
+//!   `eval budget`) and their summaries.
 //! - [`web`]: the viewer's orbit camera; on wasm32 with feature `web`, the wasm-bindgen API
 //!   and the page's wgpu mesh viewer.
-//! - [`device`]: the CPU (flex) and wgpu devices; [`rng`]: a small seeded generator, so
+//! - [`device`]: the CPU (flex) and wgpu devices, and the machine's description; [`rng`]: a small seeded generator, so
 //!   results are reproducible on every platform; [`workloads`]: the inputs the extraction
 //!   benchmarks time.
 

@@ -4,26 +4,17 @@
 
 mod common;
 
-use burn::tensor::{Device, Tensor, TensorData};
+use burn::tensor::{Device, Tensor};
 use common::{Golden, max_abs_diff};
 use meshflow::model::dit::{Dit, DitConfig, Rope, is_image_path, time_features};
-use meshflow::model::{TensorMap, Trace, load_module};
-
-const TOLERANCE: f32 = 1e-4;
+use meshflow::model::golden::{TOLERANCE, verify_dit};
+use meshflow::model::{TensorMap, load_module};
 
 fn values<const D: usize>(t: Tensor<D>) -> Vec<f32> {
     t.into_data()
         .convert::<f32>()
         .try_into_vec::<f32>()
         .unwrap()
-}
-
-fn check(name: &str, got: Vec<f32>, g: &Golden, key: &str) {
-    let want = g.f32(key);
-    assert_eq!(got.len(), want.data.len(), "{name}: size");
-    let err = max_abs_diff(&got, &want.data);
-    eprintln!("{name}: max abs diff {err:.3e}");
-    assert!(err < TOLERANCE, "{name}: max abs diff {err}");
 }
 
 fn load(device: &Device) -> (Golden, Dit) {
@@ -39,53 +30,41 @@ fn load(device: &Device) -> (Golden, Dit) {
     (g, dit)
 }
 
-fn run_forward(device: &Device) {
-    let (g, dit) = load(device);
-    let x = g.f32("input.x");
+/// The time features, then the library's comparison ([`verify_dit`], as `meshflow verify`
+/// runs it: the forward pass with its intermediates and the 10-step sampling trace), every
+/// tensor within [`TOLERANCE`].
+fn run_golden(device: &Device) {
+    let g = Golden::load("dit_small");
     let t = g.f32("input.timestep").data;
-    let rope_input: Vec<f32> = g
-        .i64("input.rope_input")
-        .data
-        .iter()
-        .map(|&v| v as f32)
-        .collect();
-    let positions: Vec<[f32; 3]> = rope_input
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    let rope = Rope::new(&positions, 2, 24, device);
-    let cond = g.f32("input.proj_cond_on_temb");
-    let cond = Tensor::<2>::from_data(TensorData::new(cond.data, cond.shape), device);
-    check(
-        "t_freq",
-        values(time_features(&t, 96, device)),
-        &g,
-        "output.t_freq",
-    );
-    check(
-        "temb",
-        values(dit.time_embedding(&t, cond.clone())),
-        &g,
-        "inter.temb",
-    );
-    let x = Tensor::<3>::from_data(TensorData::new(x.data, x.shape), device);
-    let mut trace = Trace::recording();
-    let out = dit.forward(x, &t, cond, &rope, &mut trace);
-    for (name, tensor) in trace.tensors {
-        check(&name, values(tensor), &g, &format!("inter.{name}"));
+    let want = g.f32("output.t_freq").data;
+    let err = max_abs_diff(&values(time_features(&t, 96, device)), &want);
+    eprintln!("t_freq: max abs diff {err:.3e}");
+    assert!(err < TOLERANCE, "t_freq: max abs diff {err}");
+    let diffs = verify_dit(&common::golden_dir(), device).unwrap();
+    common::assert_within_tolerance(&diffs);
+    let names: Vec<&str> = diffs.iter().map(|d| d.name.as_str()).collect();
+    let inter = g.json["tensors"]
+        .as_object()
+        .unwrap()
+        .keys()
+        .filter_map(|k| k.strip_prefix("inter."));
+    for name in ["sample", "sample_trace", "sampled"]
+        .into_iter()
+        .chain(inter)
+    {
+        assert!(names.contains(&name), "{name} compared");
     }
-    check("sample", values(out), &g, "output.sample");
 }
 
 #[test]
-fn dit_small_forward_matches_reference_on_cpu() {
-    run_forward(&Device::flex());
+fn dit_small_matches_reference_on_cpu() {
+    run_golden(&Device::flex());
 }
 
 #[cfg(feature = "wgpu")]
 #[test]
-fn dit_small_forward_matches_reference_on_wgpu_vulkan() {
-    run_forward(&meshflow::device::vulkan().expect("a Vulkan device (lavapipe in CI)"));
+fn dit_small_matches_reference_on_wgpu_vulkan() {
+    run_golden(&meshflow::device::vulkan().expect("a Vulkan device (lavapipe in CI)"));
 }
 
 #[test]
@@ -120,54 +99,6 @@ fn schedules_match_reference() {
     let to_zero = step_times(10, ScheduleMode::ToZero);
     assert_eq!(to_zero.len(), 11);
     assert_eq!(to_zero[10], 0.0);
-}
-
-fn run_sampling(device: &Device) {
-    use meshflow::model::sampler::sample;
-    use meshflow::model::schedule::ScheduleMode;
-    let (g, dit) = load(device);
-    let rope_input: Vec<f32> = g
-        .i64("input.rope_input")
-        .data
-        .iter()
-        .map(|&v| v as f32)
-        .collect();
-    let positions: Vec<[f32; 3]> = rope_input
-        .chunks_exact(3)
-        .map(|c| [c[0], c[1], c[2]])
-        .collect();
-    let rope = Rope::new(&positions, 2, 24, device);
-    let cond = g.f32("input.proj_cond_on_temb");
-    let cond = Tensor::<2>::from_data(TensorData::new(cond.data, cond.shape), device);
-    let noise = g.f32("input.noise");
-    let noise = Tensor::<3>::from_data(TensorData::new(noise.data, noise.shape), device);
-    let mut trace = Vec::new();
-    let out = sample(
-        &dit,
-        noise,
-        cond,
-        &rope,
-        10,
-        ScheduleMode::Reference,
-        &mut |_, _, x| {
-            trace.extend(values(x.clone()));
-            true
-        },
-    )
-    .unwrap();
-    check("sample_trace", trace, &g, "output.sample_trace");
-    check("sampled", values(out), &g, "output.sampled");
-}
-
-#[test]
-fn dit_small_sampling_trace_matches_reference_on_cpu() {
-    run_sampling(&Device::flex());
-}
-
-#[cfg(feature = "wgpu")]
-#[test]
-fn dit_small_sampling_trace_matches_reference_on_wgpu_vulkan() {
-    run_sampling(&meshflow::device::vulkan().expect("a Vulkan device (lavapipe in CI)"));
 }
 
 #[test]

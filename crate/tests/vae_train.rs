@@ -9,7 +9,7 @@ use burn::tensor::Device;
 use meshflow::Mesh;
 use meshflow::geometry::normalize::Normalization;
 use meshflow::geometry::primitives::{cube, grid, icosphere, octahedron};
-use meshflow::model::{MeshVae, VaeConfig, load_module};
+use meshflow::model::{MeshVae, load_module};
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{VaeTrainConfig, epoch_batches, train_vae, validate};
 
@@ -24,24 +24,9 @@ fn meshes() -> Vec<Mesh> {
         .collect()
 }
 
+/// The `tiny` preset with the schedule and losses the overfitting test is tuned for.
 fn small_config(steps: usize) -> VaeTrainConfig {
-    let model = VaeConfig {
-        num_vertices: 64,
-        num_latents: 16,
-        latent_dim: 8,
-        width_encoder: 64,
-        width_decoder: 64,
-        num_heads: 4,
-        num_layers_encoder: 1,
-        num_layers_decoder: 1,
-        max_degree: 8,
-        num_freqs: 6,
-        edge_dim: 32,
-        tau: 0.6,
-        length_buckets: false,
-    };
-    let mut cfg = VaeTrainConfig::new(model);
-    cfg.batch_size = 4;
+    let mut cfg = meshflow::train::presets::vae_tiny();
     cfg.steps = steps;
     cfg.warmup_steps = 10;
     cfg.learning_rate = 3e-3;
@@ -49,7 +34,6 @@ fn small_config(steps: usize) -> VaeTrainConfig {
     cfg.weight_decay = 0.0;
     cfg.kl_weight = 1e-4;
     cfg.lambda_neg = 0.25;
-    cfg.augment = false;
     cfg.eval_every = 1_000_000;
     cfg.checkpoint_every = 1_000_000;
     cfg

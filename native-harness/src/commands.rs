@@ -3,18 +3,14 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use meshflow::Mesh;
 use meshflow::eval::metrics::{CompareOptions, compare_meshes};
-use meshflow::extract::{ExtractOptions, ExtractReport, FaceSupport, extract_mesh};
-use meshflow::geometry::clean::{CleanOptions, CleanReport, clean};
-use meshflow::geometry::normalize::Normalization;
-use meshflow::geometry::normals::vertex_normals;
+use meshflow::extract::round_trip::{RoundTripError, round_trip};
+use meshflow::geometry::clean::{CleanOptions, clean};
+use meshflow::geometry::inspect::Inspection;
 use meshflow::geometry::sample::sample_surface;
-use meshflow::geometry::topology::{
-    TopologyReport, adjacency, edges, rotate_min_first, sorted_face,
-};
+use meshflow::geometry::topology::TopologyReport;
 use meshflow::io::{Limits, read_path, write_path};
-use meshflow::model::tokens::{token_edges, vertex_order};
-use meshflow::{Aabb, Mesh};
 use serde::Serialize;
 
 use crate::BadInput;
@@ -46,46 +42,26 @@ fn print_topology(title: &str, t: &TopologyReport) {
     }
 }
 
+/// A report as printed: the file it is about, then the report's own fields.
 #[derive(Serialize)]
-struct Inspection {
+struct OfFile<'a, T> {
     file: String,
-    vertices: usize,
-    faces: usize,
-    point_cloud: bool,
-    has_normals: bool,
-    bbox_min: [f32; 3],
-    bbox_max: [f32; 3],
-    surface_area: f64,
-    max_vertex_degree: usize,
-    topology: TopologyReport,
+    #[serde(flatten)]
+    report: &'a T,
 }
 
+/// `meshflow inspect`: the summary of a mesh or point cloud, as text or JSON.
 pub fn inspect(file: &Path, json: bool) -> Result<()> {
     let mesh = read(file)?;
-    let aabb = mesh.aabb().unwrap_or(Aabb {
-        min: glam::Vec3::ZERO,
-        max: glam::Vec3::ZERO,
-    });
-    let degree = adjacency(mesh.positions.len(), &edges(&mesh.faces))
-        .iter()
-        .map(Vec::len)
-        .max();
-    let report = Inspection {
-        file: file.display().to_string(),
-        vertices: mesh.positions.len(),
-        faces: mesh.faces.len(),
-        point_cloud: mesh.is_point_cloud(),
-        has_normals: !mesh.normals.is_empty(),
-        bbox_min: aabb.min.to_array(),
-        bbox_max: aabb.max.to_array(),
-        surface_area: mesh.area(),
-        max_vertex_degree: degree.unwrap_or(0),
-        topology: TopologyReport::of(&mesh),
-    };
+    let report = Inspection::of(&mesh);
+    let file = file.display().to_string();
     if json {
-        return print_json(&report);
+        return print_json(&OfFile {
+            file,
+            report: &report,
+        });
     }
-    println!("{}", report.file);
+    println!("{file}");
     let kind = if report.point_cloud {
         "point cloud"
     } else {
@@ -179,24 +155,8 @@ pub fn compare(pred: &Path, gt: &Path, samples: usize, seed: u64, json: bool) ->
     Ok(())
 }
 
-#[derive(Serialize)]
-struct RoundTrip {
-    file: String,
-    clean: CleanReport,
-    /// Faces of the cleaned mesh, the reference for the counts below.
-    faces: usize,
-    extracted_faces: usize,
-    /// Faces of the cleaned mesh that extraction did not produce.
-    lost_faces: usize,
-    /// Extracted faces that the cleaned mesh does not have (non-face 3-cliques, filled holes).
-    extra_faces: usize,
-    /// Faces produced with the opposite winding (the normal rule disagrees with the source).
-    flipped_faces: usize,
-    extract: ExtractReport,
-    topology_before: TopologyReport,
-    topology_after: TopologyReport,
-}
-
+/// `meshflow extract`: the round trip of a mesh through its own edges, as text or JSON;
+/// optionally writes the extracted mesh.
 pub fn extract(
     mesh_path: &Path,
     output: Option<&Path>,
@@ -204,93 +164,29 @@ pub fn extract(
     json: bool,
 ) -> Result<()> {
     let mesh = read(mesh_path)?;
-    if mesh.is_point_cloud() {
-        let msg = format!(
-            "{} is a point cloud: extract needs a mesh with faces",
-            mesh_path.display()
-        );
-        return Err(BadInput(msg).into());
-    }
-    let (cleaned, clean_report) = clean(&mesh, &CleanOptions::default());
-    let aabb = cleaned
-        .aabb()
-        .ok_or_else(|| BadInput(format!("{} is empty after cleaning", mesh_path.display())))?;
-    let model_frame = Normalization::to_model_frame(aabb).apply_mesh(&cleaned);
-    // The token layer without its features (which would cost ~1.4 KB per vertex): every vertex
-    // is a token in the VAE's order, and the ground-truth adjacency is renumbered into it.
-    let order = vertex_order(&model_frame.positions);
-    let normals = vertex_normals(&model_frame.positions, &model_frame.faces);
-    let token_positions: Vec<_> = order
-        .iter()
-        .map(|&v| model_frame.positions[v as usize])
-        .collect();
-    let token_normals: Vec<_> = order.iter().map(|&v| normals[v as usize]).collect();
-    let edges = token_edges(&model_frame.faces, &order);
-    // Keep every token (no compaction) so the report can compare with the source's faces.
-    let opts = ExtractOptions {
-        compact: false,
-        ..extract.options()
-    };
-    let (out, extract_report) = extract_mesh(
-        &token_positions,
-        &token_normals,
-        &edges,
-        FaceSupport::Geometric,
-        &opts,
-    )?;
-    // Back to the cleaned mesh's numbering and coordinates.
-    let original = |t: u32| order[t as usize];
-    let faces: Vec<[u32; 3]> = out.faces.iter().map(|f| f.map(original)).collect();
-    let result = Mesh {
-        positions: cleaned.positions.clone(),
-        normals: Vec::new(),
-        faces,
-    };
-
-    let as_set = |faces: &[[u32; 3]]| {
-        let mut v: Vec<[u32; 3]> = faces.iter().map(|&f| sorted_face(f)).collect();
-        v.sort_unstable();
-        v
-    };
-    let (before, after) = (as_set(&cleaned.faces), as_set(&result.faces));
-    let lost = before
-        .iter()
-        .filter(|f| after.binary_search(f).is_err())
-        .count();
-    let extra = after
-        .iter()
-        .filter(|f| before.binary_search(f).is_err())
-        .count();
-    let mut oriented: Vec<[u32; 3]> = cleaned.faces.iter().map(|&f| rotate_min_first(f)).collect();
-    oriented.sort_unstable();
-    let flipped = result
-        .faces
-        .iter()
-        .map(|&f| rotate_min_first(f))
-        .filter(|f| {
-            oriented.binary_search(f).is_err()
-                && oriented.binary_search(&[f[0], f[2], f[1]]).is_ok()
-        })
-        .count();
-    let report = RoundTrip {
-        file: mesh_path.display().to_string(),
-        clean: clean_report,
-        faces: cleaned.faces.len(),
-        extracted_faces: result.faces.len(),
-        lost_faces: lost,
-        extra_faces: extra,
-        flipped_faces: flipped,
-        extract: extract_report,
-        topology_before: TopologyReport::of(&cleaned),
-        topology_after: TopologyReport::of(&result),
+    let file = mesh_path.display().to_string();
+    let (result, report) = match round_trip(&mesh, &extract.options()) {
+        Ok(done) => done,
+        // Input the command cannot work with exits with status 2; the messages name the file.
+        Err(RoundTripError::PointCloud) => {
+            let msg = format!("{file} is a point cloud: extract needs a mesh with faces");
+            return Err(BadInput(msg).into());
+        }
+        Err(RoundTripError::Empty) => {
+            return Err(BadInput(format!("{file} is empty after cleaning")).into());
+        }
+        Err(RoundTripError::Extract(e)) => return Err(e.into()),
     };
     if let Some(path) = output {
         write(&result, path)?;
     }
     if json {
-        return print_json(&report);
+        return print_json(&OfFile {
+            file,
+            report: &report,
+        });
     }
-    println!("{}", report.file);
+    println!("{file}");
     println!("  cleaned: {}", serde_json::to_string(&report.clean)?);
     println!(
         "  faces: {} -> {} extracted ({} lost, {} extra, {} flipped)",

@@ -10,27 +10,25 @@ use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
 use meshflow::Mesh;
 use meshflow::burn::tensor::Device;
-use meshflow::data::degrade::{Degradation, degrade};
-use meshflow::device::{BackendKind, device};
-use meshflow::eval::metrics::{CompareOptions, Comparison, compare_meshes};
-use meshflow::geometry::sample::sample_surface;
-use meshflow::model::MeshVae;
-use meshflow::model::dit::Dit;
-use meshflow::model::schedule::ScheduleMode;
-use meshflow::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
-use meshflow::pipeline::generate::{
-    CONDITION_POINTS, GenerateOptions, Generated, Generator, StageTimes, faces_range, input_points,
+use meshflow::data::degrade::Degradation;
+use meshflow::device::{BackendKind, device, machine_description};
+use meshflow::eval::budget::evaluate_budget_rule;
+use meshflow::eval::generation::{
+    BudgetSource, GenerationEval, GenerationTiming, evaluate_generation, time_generation,
 };
-use meshflow::pipeline::reconstruct::reconstruct_batch;
+use meshflow::eval::sets::eval_set;
+use meshflow::eval::summary::SurfaceSummary;
+use meshflow::model::schedule::ScheduleMode;
+use meshflow::pipeline::budget::ShapeFeatures;
+use meshflow::pipeline::generate::{GenerateOptions, Generated, StageTimes, input_points};
+use meshflow::pipeline::shipped::ShippedModels;
 use meshflow::surface::complete::CompleteOptions;
 use meshflow::surface::fit::FitOptions;
 use serde::Serialize;
 
 use crate::BadInput;
 use crate::extract_args::ExtractArgs;
-use crate::train::{load_weights, read_shipped};
-use crate::vae_eval::{EvalSetArgs, SurfaceSummary, eval_meshes, weights_dir};
-use meshflow::pipeline::shipped::{DitManifest, VaeManifest};
+use crate::vae_eval::{EvalSetArgs, eval_set_error, shipped_error, weights_dir};
 
 /// The sampler's end point, as a command-line value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -183,40 +181,10 @@ pub struct GenerateArgs {
     json: bool,
 }
 
-/// The shipped DiT and VAE, loaded.
-pub struct Models {
-    pub vae: MeshVae,
-    pub vae_manifest: VaeManifest,
-    pub dit: Dit,
-    pub dit_manifest: DitManifest,
-}
-
-impl Models {
-    pub fn generator<'a>(&'a self, device: &'a Device) -> Generator<'a> {
-        Generator::from_shipped(
-            &self.vae,
-            &self.vae_manifest,
-            &self.dit,
-            &self.dit_manifest,
-            device,
-        )
-    }
-}
-
 /// Loads `dir`'s VAE and DiT, checking each file against its manifest's sha256 and the DiT
 /// against the VAE it was trained on.
-pub fn load_models(dir: &Path, device: &Device) -> Result<Models> {
-    let (vae, vae_manifest) = load_weights(dir, device)?;
-    let (manifest, weights) = read_shipped(dir, "dit")?;
-    let (dit, dit_manifest) =
-        meshflow::pipeline::shipped::load_dit(&manifest, &weights, &vae_manifest, device)
-            .map_err(|e| BadInput(format!("{}: {e}", dir.display())))?;
-    Ok(Models {
-        vae,
-        vae_manifest,
-        dit,
-        dit_manifest,
-    })
+pub fn load_models(dir: &Path, device: &Device) -> Result<ShippedModels> {
+    ShippedModels::load(dir, device).map_err(|e| shipped_error(dir, e))
 }
 
 /// What `generate --json` prints per input.
@@ -390,23 +358,13 @@ fn report(
     Ok(())
 }
 
-/// Where the vertex budget of `eval generate` comes from.
-#[derive(Clone, Copy, Debug, ValueEnum, Serialize)]
-#[serde(rename_all = "kebab-case")]
-pub enum BudgetSource {
-    /// The default rule on the conditioning points, as a user gets it.
-    Rule,
-    /// The ground truth's vertex count (an oracle, for comparison).
-    GroundTruth,
-    /// The ground truth's face count, asked for as `--faces` (how well face counts steer).
-    GroundTruthFaces,
-}
-
 #[derive(Args)]
 pub struct EvalGenerateArgs {
     #[command(flatten)]
     set: EvalSetArgs,
-    #[arg(long, value_enum, default_value = "rule")]
+    /// Where each mesh's vertex budget comes from: the default rule (as a user gets it), the
+    /// ground truth's vertex count (an oracle), or its face count asked for as `--faces`.
+    #[arg(long, default_value = "rule", value_parser = budget_parser())]
     budget: BudgetSource,
     /// Meshes per sampling batch.
     #[arg(long, default_value_t = 8)]
@@ -433,222 +391,34 @@ pub struct EvalGenerateArgs {
     output: Option<PathBuf>,
 }
 
-#[derive(Serialize)]
-struct MeshResult {
-    name: String,
-    gt_vertices: usize,
-    vertex_budget: usize,
-    /// With `--budget ground-truth-faces`: the faces asked for, and the faces made.
-    faces_asked: Option<usize>,
-    faces_made: usize,
-    ours: Option<Comparison>,
-    vae: Option<Comparison>,
-    baseline: Option<Comparison>,
-}
-
-#[derive(Serialize)]
-struct MethodSummaries {
-    meshes: usize,
-    ours: SurfaceSummary,
-    vae_upper_bound: SurfaceSummary,
-    baseline: Option<SurfaceSummary>,
-}
-
-#[derive(Serialize)]
-struct EvalGenerateReport {
-    source: String,
-    weights_vae_sha256: String,
-    weights_dit_sha256: String,
-    options: GenerateOptions,
-    budget: BudgetSource,
-    /// The conditioning points' degradation (`--noise`, `--missing`).
-    noise: f32,
-    missing: f32,
-    backend: String,
-    skipped: Vec<String>,
-    /// Mean stage times per mesh (batched sampling divided by the batch size).
-    mean_times: StageTimes,
-    all: MethodSummaries,
-    buckets: Vec<(String, MethodSummaries)>,
-    per_mesh: Vec<MeshResult>,
-}
-
-fn summaries(results: &[&MeshResult], with_baseline: bool) -> MethodSummaries {
-    let pick = |f: &dyn Fn(&MeshResult) -> Option<&Comparison>| -> Vec<Option<&Comparison>> {
-        results.iter().map(|r| f(r)).collect()
-    };
-    MethodSummaries {
-        meshes: results.len(),
-        ours: SurfaceSummary::of(&pick(&|r| r.ours.as_ref())),
-        vae_upper_bound: SurfaceSummary::of(&pick(&|r| r.vae.as_ref())),
-        baseline: with_baseline.then(|| SurfaceSummary::of(&pick(&|r| r.baseline.as_ref()))),
-    }
+/// The `--budget` values.
+fn budget_parser() -> impl clap::builder::TypedValueParser<Value = BudgetSource> {
+    use clap::builder::TypedValueParser;
+    clap::builder::PossibleValuesParser::new(BudgetSource::ALL.map(BudgetSource::name))
+        .try_map(|name| name.parse::<BudgetSource>())
 }
 
 pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
     let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
-    let vcfg = &models.vae_manifest.model;
-    let (meshes, mut skipped, source) = args.set.meshes(vcfg.num_vertices)?;
-    // The ground truth's face count, within what the model can be asked for.
-    let faces_asked = |m: &Mesh| {
-        let range = faces_range(vcfg.num_vertices);
-        m.faces.len().clamp(*range.start(), *range.end())
-    };
-    if let Some(dir) = &args.meshes {
-        fs::create_dir_all(dir)?;
-    }
-    let generator = models.generator(&dev);
-    let base_opts = args.sampling.options(None, None);
-    let compare = CompareOptions::default();
-    let bar = indicatif::ProgressBar::new(meshes.len() as u64);
-    let mut per_mesh = Vec::new();
-    let mut targets = serde_json::Map::new();
-    let mut total = StageTimes::default();
-    let mut timed = 0usize;
-    for (c, chunk) in meshes.chunks(args.batch.max(1)).enumerate() {
-        let first = c * args.batch.max(1);
-        // Conditioning points: the ground truth's surface, seeded per mesh, degraded as asked.
-        let degradation = Degradation {
+    let set = args.set.meshes(models.vae_manifest.model.num_vertices)?;
+    let bar = indicatif::ProgressBar::new(set.meshes.len() as u64);
+    let eval = GenerationEval {
+        options: args.sampling.options(None, None),
+        budget: args.budget,
+        batch: args.batch,
+        degradation: Degradation {
             noise: args.noise,
             missing: args.missing,
-        };
-        let points: Vec<Vec<glam::Vec3>> = chunk
-            .iter()
-            .enumerate()
-            .map(|(k, (_, m))| {
-                let seed = (first + k) as u64;
-                sample_surface(m, CONDITION_POINTS, seed)
-                    .map(|s| degrade(&s.points, &degradation, seed))
-            })
-            .collect::<Result<_, _>>()?;
-        // One budget per batch row: sample each mesh alone when budgets come from the ground
-        // truth (options are per batch).
-        let generated: Vec<Generated> = match args.budget {
-            BudgetSource::Rule => generator.generate(&points, &base_opts, &mut |_, _| true)?,
-            BudgetSource::GroundTruth | BudgetSource::GroundTruthFaces => chunk
-                .iter()
-                .zip(&points)
-                .map(|((_, m), p)| {
-                    let opts = match args.budget {
-                        BudgetSource::GroundTruth => {
-                            args.sampling.options(Some(m.positions.len()), None)
-                        }
-                        _ => args.sampling.options(None, Some(faces_asked(m))),
-                    };
-                    generator
-                        .generate(std::slice::from_ref(p), &opts, &mut |_, _| true)
-                        .map(|mut g| g.remove(0))
-                })
-                .collect::<Result<_, _>>()?,
-        };
-        let t = &generated[0].times;
-        let rows = if matches!(args.budget, BudgetSource::Rule) {
-            1
-        } else {
-            chunk.len()
-        };
-        total.condition_s += t.condition_s * rows as f64;
-        total.sample_s += t.sample_s * rows as f64;
-        total.decode_s += t.decode_s * rows as f64;
-        total.extract_s += t.extract_s * rows as f64;
-        total.fit_s += t.fit_s * rows as f64;
-        timed += chunk.len();
-        let gts: Vec<Mesh> = chunk.iter().map(|(_, m)| m.clone()).collect();
-        let vae = reconstruct_batch(
-            &models.vae,
-            vcfg,
-            &gts,
-            // The upper bound extracts exactly as our meshes do.
-            &base_opts.extract,
-            &compare,
-            &dev,
-        )
-        .ok();
-        for (k, ((name, gt), g)) in chunk.iter().zip(generated).enumerate() {
-            let index = first + k;
-            let score = |m: &Mesh| -> Option<Comparison> {
-                (!m.faces.is_empty())
-                    .then(|| compare_meshes(m, gt, &compare).ok())
-                    .flatten()
-            };
-            let vae_mesh = vae.as_ref().map(|v| &v[k].mesh);
-            let baseline = args.baseline.as_ref().and_then(|dir| {
-                let file = dir.join(format!("{index}.poisson.ply"));
-                meshflow::io::read_path(&file, &meshflow::io::Limits::default()).ok()
-            });
-            if let Some(dir) = &args.meshes {
-                let write = |m: &Mesh, what: &str| {
-                    meshflow::io::write_path(m, &dir.join(format!("{index}.{what}")))
-                };
-                write(&Mesh::from_points(points[k].clone()), "points.ply")?;
-                write(&g.mesh, "ours.glb")?;
-                write(gt, "gt.glb")?;
-                if let Some(v) = vae_mesh {
-                    write(v, "vae.glb")?;
-                }
-                targets.insert(index.to_string(), g.mesh.faces.len().into());
-            }
-            per_mesh.push(MeshResult {
-                name: name.clone(),
-                gt_vertices: gt.positions.len(),
-                vertex_budget: g.vertex_budget,
-                faces_asked: matches!(args.budget, BudgetSource::GroundTruthFaces)
-                    .then(|| faces_asked(gt)),
-                faces_made: g.mesh.faces.len(),
-                ours: score(&g.mesh),
-                vae: vae_mesh.and_then(score),
-                baseline: baseline.as_ref().and_then(score),
-            });
-        }
-        bar.inc(chunk.len() as u64);
-    }
+        },
+        baseline: args.baseline.as_deref(),
+        meshes: args.meshes.as_deref(),
+        backend: args.sampling.backend.name(),
+    };
+    let report = evaluate_generation(&models, set, &eval, &dev, &mut |done| {
+        bar.set_position(done as u64)
+    })?;
     bar.finish_and_clear();
-    if let Some(dir) = &args.meshes {
-        meshflow::io::write_atomic(
-            &dir.join("targets.json"),
-            serde_json::to_string_pretty(&targets)?.as_bytes(),
-        )?;
-    }
-    let with_baseline = args.baseline.is_some();
-    if with_baseline && per_mesh.iter().all(|r| r.baseline.is_none()) {
-        skipped.push("no baseline mesh could be read from --baseline".into());
-    }
-    let n = timed.max(1) as f64;
-    let mean_times = StageTimes {
-        condition_s: total.condition_s / n,
-        sample_s: total.sample_s / n,
-        decode_s: total.decode_s / n,
-        extract_s: total.extract_s / n,
-        fit_s: total.fit_s / n,
-    };
-    let all: Vec<&MeshResult> = per_mesh.iter().collect();
-    let buckets = [256usize, 512, 1024]
-        .iter()
-        .map(|&limit| {
-            let rs: Vec<&MeshResult> = all
-                .iter()
-                .copied()
-                .filter(|r| r.gt_vertices <= limit)
-                .collect();
-            (format!("<= {limit}"), summaries(&rs, with_baseline))
-        })
-        .collect();
-    let report = EvalGenerateReport {
-        source,
-        weights_vae_sha256: models.vae_manifest.sha256.clone(),
-        weights_dit_sha256: models.dit_manifest.sha256.clone(),
-        options: base_opts,
-        budget: args.budget,
-        noise: args.noise,
-        missing: args.missing,
-        backend: args.sampling.backend.name().into(),
-        skipped,
-        mean_times,
-        all: summaries(&all, with_baseline),
-        buckets,
-        per_mesh,
-    };
     let line = |what: &str, s: &SurfaceSummary| {
         println!(
             "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  faces {:7.1}  holes {:6.2}  \
@@ -703,57 +473,16 @@ pub struct EvalBudgetArgs {
     output: Option<PathBuf>,
 }
 
-#[derive(Serialize)]
-struct BudgetReport {
-    source: String,
-    meshes: usize,
-    fitted: BudgetRule,
-    r_squared_log: f64,
-    shipped: BudgetRule,
-    /// Median of |ln(budget / true vertex count)| for each rule: exp of it is the typical
-    /// factor by which a budget misses.
-    fitted_median_log_error: f64,
-    shipped_median_log_error: f64,
-}
-
 /// Fits the default vertex-budget rule on a split and compares it with the shipped one.
 pub fn eval_budget(args: EvalBudgetArgs) -> Result<()> {
-    let (meshes, _, source) =
-        eval_meshes(None, &args.split, args.data.clone(), args.max_vertices, 0)?;
-    let bar = indicatif::ProgressBar::new(meshes.len() as u64);
-    let examples: Vec<(ShapeFeatures, usize)> = meshes
-        .iter()
-        .enumerate()
-        .filter_map(|(i, (_, m))| {
-            bar.inc(1);
-            let points = sample_surface(m, CONDITION_POINTS, i as u64).ok()?.points;
-            Some((shape_features(&points, i as u64), m.positions.len()))
-        })
-        .collect();
+    let shards = crate::data::shards_dir(args.data.clone());
+    let set = eval_set(None, &args.split, &shards, args.max_vertices, 0).map_err(eval_set_error)?;
+    let bar = indicatif::ProgressBar::new(set.meshes.len() as u64);
+    let report = evaluate_budget_rule(&set.meshes, args.max_vertices, set.source, &mut |done| {
+        bar.set_position(done as u64)
+    })
+    .ok_or_else(|| BadInput("too few meshes to fit a rule".into()))?;
     bar.finish_and_clear();
-    let (fitted, r2) = BudgetRule::fit(&examples)
-        .ok_or_else(|| BadInput("too few meshes to fit a rule".into()))?;
-    let median_error = |rule: &BudgetRule| {
-        let mut e: Vec<f64> = examples
-            .iter()
-            .map(|(f, v)| {
-                (rule.budget(f, args.max_vertices) as f64 / *v as f64)
-                    .ln()
-                    .abs()
-            })
-            .collect();
-        e.sort_by(f64::total_cmp);
-        e[e.len() / 2]
-    };
-    let report = BudgetReport {
-        source,
-        meshes: examples.len(),
-        fitted,
-        r_squared_log: r2,
-        shipped: DEFAULT_RULE,
-        fitted_median_log_error: median_error(&fitted),
-        shipped_median_log_error: median_error(&DEFAULT_RULE),
-    };
     println!("{}", serde_json::to_string_pretty(&report)?);
     if let Some(out) = &args.output {
         meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
@@ -778,21 +507,6 @@ pub struct BenchGenerateArgs {
     output: PathBuf,
 }
 
-#[derive(Serialize)]
-struct BenchGenerateReport {
-    input: String,
-    backend: String,
-    steps: usize,
-    runs: usize,
-    vertex_budget: usize,
-    faces: usize,
-    load_s: f64,
-    /// Medians over the timed runs.
-    median: StageTimes,
-    median_total_s: f64,
-    machine: String,
-}
-
 /// Times the whole generation on one input; the first run (shader compilation on wgpu,
 /// allocator warm-up) is not counted.
 pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
@@ -802,40 +516,20 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     let load_s = started.elapsed().as_secs_f64();
     let points = input_points(&read_input(&args.input)?, args.sampling.seed)
         .map_err(|e| BadInput(e.to_string()))?;
-    let generator = models.generator(&dev);
     let opts = args.sampling.options(args.vertices, None);
-    let mut runs = Vec::new();
-    for _ in 0..=args.runs.max(1) {
-        let g = generator
-            .generate(std::slice::from_ref(&points), &opts, &mut |_, _| true)
-            .map_err(|e| BadInput(e.to_string()))?;
-        runs.push(g.into_iter().next().expect("one input, one output"));
-    }
-    let last = runs.remove(0);
-    let median = |f: &dyn Fn(&StageTimes) -> f64| {
-        let mut v: Vec<f64> = runs.iter().map(|g| f(&g.times)).collect();
-        v.sort_by(f64::total_cmp);
-        v[v.len() / 2]
-    };
-    let report = BenchGenerateReport {
+    let (last, median, median_total_s) = time_generation(&models, &points, &opts, args.runs, &dev)
+        .map_err(|e| BadInput(e.to_string()))?;
+    let report = GenerationTiming {
         input: args.input.display().to_string(),
         backend: args.sampling.backend.name().into(),
         steps: opts.steps,
-        runs: runs.len(),
+        runs: args.runs.max(1),
         vertex_budget: last.vertex_budget,
         faces: last.mesh.faces.len(),
         load_s,
-        median: StageTimes {
-            condition_s: median(&|t| t.condition_s),
-            sample_s: median(&|t| t.sample_s),
-            decode_s: median(&|t| t.decode_s),
-            extract_s: median(&|t| t.extract_s),
-            fit_s: median(&|t| t.fit_s),
-        },
-        median_total_s: median(&|t| {
-            t.condition_s + t.sample_s + t.decode_s + t.extract_s + t.fit_s
-        }),
-        machine: crate::train::machine_description(),
+        median,
+        median_total_s,
+        machine: machine_description(),
     };
     let json = serde_json::to_string_pretty(&report)?;
     println!("{json}");

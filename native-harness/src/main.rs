@@ -10,7 +10,6 @@ mod extract_args;
 mod generate;
 mod progress;
 mod train;
-mod train_dit;
 mod vae_eval;
 mod verify;
 

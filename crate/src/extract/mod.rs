@@ -30,6 +30,8 @@
 
 pub mod manifold;
 pub mod overlap;
+/// A mesh round-tripped through its ground-truth edges, and what extraction lost.
+pub mod round_trip;
 #[cfg(feature = "wgpu")]
 pub mod threshold_gpu;
 

@@ -3,6 +3,8 @@
 
 pub mod clean;
 pub mod disjoint_sets;
+/// A mesh's summary figures (`meshflow inspect`).
+pub mod inspect;
 pub mod mesh;
 pub mod normalize;
 pub mod normals;

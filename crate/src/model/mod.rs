@@ -6,6 +6,9 @@
 
 pub mod condition;
 pub mod dit;
+/// The reference's golden vectors and the comparison of both models with them.
+#[cfg(not(target_arch = "wasm32"))]
+pub mod golden;
 pub mod layers;
 pub mod sampler;
 pub mod schedule;

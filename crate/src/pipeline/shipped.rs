@@ -4,12 +4,16 @@
 //! the same things: the sha256 of each file, that the DiT was trained on this VAE's latents,
 //! and that names and shapes match the configurations.
 
+#[cfg(not(target_arch = "wasm32"))]
+use std::path::Path;
+
 use burn::tensor::Device;
 use serde::{Deserialize, Serialize};
 use sha2::{Digest, Sha256};
 
 use crate::model::dit::{Dit, DitConfig, is_image_path};
 use crate::model::{MeshVae, TensorMap, VaeConfig, WeightsError, load_module};
+use crate::pipeline::generate::Generator;
 
 /// Why shipped weights were refused.
 #[derive(Debug, thiserror::Error)]
@@ -33,6 +37,19 @@ pub enum ShippedError {
     Weights {
         what: &'static str,
         source: WeightsError,
+    },
+    #[error("cannot read {path}: {source}")]
+    Read {
+        path: String,
+        source: std::io::Error,
+    },
+    #[error(
+        "no shipped weights found (tried {tried}) and the built-in copy could not be written \
+         ({source}); pass --weights DIR or set MESHFLOW_WEIGHTS"
+    )]
+    NotFound {
+        tried: String,
+        source: std::io::Error,
     },
 }
 
@@ -205,6 +222,182 @@ pub fn load_dit(
     let dit = load_module(Dit::new(&m.model, device), &map, &is_image_path)
         .map_err(|source| ShippedError::Weights { what, source })?;
     Ok((dit, m))
+}
+
+/// The shipped pair, loaded and checked: the VAE, the DiT trained on its latents, and their
+/// manifests. The CLI loads it from a weights folder, the browser from fetched bytes.
+pub struct ShippedModels {
+    pub vae: MeshVae,
+    pub vae_manifest: VaeManifest,
+    pub dit: Dit,
+    pub dit_manifest: DitManifest,
+}
+
+impl ShippedModels {
+    /// Loads both models from their manifests (JSON) and safetensors bytes: [`load_vae`], then
+    /// [`load_dit`] against that VAE.
+    pub fn from_bytes(
+        vae_manifest: &[u8],
+        vae_weights: &[u8],
+        dit_manifest: &[u8],
+        dit_weights: &[u8],
+        device: &Device,
+    ) -> Result<Self, ShippedError> {
+        let (vae, vae_manifest) = load_vae(vae_manifest, vae_weights, device)?;
+        let (dit, dit_manifest) = load_dit(dit_manifest, dit_weights, &vae_manifest, device)?;
+        Ok(Self {
+            vae,
+            vae_manifest,
+            dit,
+            dit_manifest,
+        })
+    }
+
+    /// Loads `dir/{vae,dit}.{manifest.json,safetensors}` ([`read_shipped`]).
+    #[cfg(not(target_arch = "wasm32"))]
+    pub fn load(dir: &Path, device: &Device) -> Result<Self, ShippedError> {
+        let (vae_manifest, vae_weights) = read_shipped(dir, "vae")?;
+        let (dit_manifest, dit_weights) = read_shipped(dir, "dit")?;
+        Self::from_bytes(
+            &vae_manifest,
+            &vae_weights,
+            &dit_manifest,
+            &dit_weights,
+            device,
+        )
+    }
+
+    /// A generator over these models with the shipped budget rule.
+    pub fn generator<'a>(&'a self, device: &'a Device) -> Generator<'a> {
+        Generator::from_shipped(
+            &self.vae,
+            &self.vae_manifest,
+            &self.dit,
+            &self.dit_manifest,
+            device,
+        )
+    }
+}
+
+/// The weights folder to use: `flag` when given, else the first that holds a
+/// `vae.manifest.json` of: `$MESHFLOW_WEIGHTS`, `./weights`, `weights/` beside the executable
+/// or in `../share/meshflow/` from it; else `embedded` (the files of a weights folder compiled
+/// into the executable), written once to a cache folder ([`unpack_weights`]), so an installed
+/// CLI works from any folder, with or without the repository.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn locate_weights(
+    flag: Option<&Path>,
+    embedded: &[(&str, &[u8])],
+) -> Result<std::path::PathBuf, ShippedError> {
+    use std::path::PathBuf;
+    if let Some(dir) = flag {
+        return Ok(dir.to_path_buf());
+    }
+    let mut tried: Vec<PathBuf> = Vec::new();
+    if let Some(env) = std::env::var_os("MESHFLOW_WEIGHTS") {
+        tried.push(PathBuf::from(env));
+    }
+    tried.push(PathBuf::from("weights"));
+    if let Some(exe_dir) = std::env::current_exe()
+        .ok()
+        .and_then(|e| e.parent().map(Path::to_path_buf))
+    {
+        tried.push(exe_dir.join("weights"));
+        tried.push(exe_dir.join("../share/meshflow/weights"));
+    }
+    if let Some(found) = tried.iter().find(|d| d.join("vae.manifest.json").is_file()) {
+        return Ok(found.clone());
+    }
+    unpack_weights(embedded).map_err(|source| ShippedError::NotFound {
+        tried: tried
+            .iter()
+            .map(|d| d.display().to_string())
+            .collect::<Vec<_>>()
+            .join(", "),
+        source,
+    })
+}
+
+/// Writes the files of `embedded` once into a cache folder named by their manifests' checksum
+/// (`$XDG_CACHE_HOME` or `~/.cache`, `meshflow/weights-<sha256 prefix>/`) and returns it. The
+/// folder is filled under a temporary name and renamed into place, so a reader never sees half
+/// of it.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn unpack_weights(embedded: &[(&str, &[u8])]) -> std::io::Result<std::path::PathBuf> {
+    use std::path::PathBuf;
+    let cache = std::env::var_os("XDG_CACHE_HOME")
+        .map(PathBuf::from)
+        .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".cache")))
+        .unwrap_or_else(std::env::temp_dir)
+        .join("meshflow");
+    // The manifests name their safetensors by sha256, so hashing them (not 25 MB of weights on
+    // every run) identifies the pair.
+    let manifests: Vec<u8> = embedded
+        .iter()
+        .filter(|(name, _)| name.ends_with(".manifest.json"))
+        .flat_map(|(_, bytes)| bytes.iter().copied())
+        .collect();
+    let dir = cache.join(format!("weights-{}", &sha256_hex(&manifests)[..16]));
+    if dir.join("dit.safetensors").is_file() {
+        return Ok(dir);
+    }
+    let partial = cache.join(format!("weights-partial-{}", std::process::id()));
+    std::fs::create_dir_all(&partial)?;
+    for (name, bytes) in embedded {
+        std::fs::write(partial.join(name), bytes)?;
+    }
+    if std::fs::rename(&partial, &dir).is_err() {
+        // Another process put it in place first.
+        let _ = std::fs::remove_dir_all(&partial);
+    }
+    Ok(dir)
+}
+
+/// Reads `dir/NAME.manifest.json` and `dir/NAME.safetensors` (NAME: `vae` or `dit`).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn read_shipped(dir: &Path, name: &str) -> Result<(Vec<u8>, Vec<u8>), ShippedError> {
+    let read = |file: String| {
+        let path = dir.join(file);
+        std::fs::read(&path).map_err(|source| ShippedError::Read {
+            path: path.display().to_string(),
+            source,
+        })
+    };
+    Ok((
+        read(format!("{name}.manifest.json"))?,
+        read(format!("{name}.safetensors"))?,
+    ))
+}
+
+/// Loads the VAE of a weights folder (sha256, configuration and shapes checked).
+#[cfg(not(target_arch = "wasm32"))]
+pub fn load_vae_dir(dir: &Path, device: &Device) -> Result<(MeshVae, VaeManifest), ShippedError> {
+    let (manifest, weights) = read_shipped(dir, "vae")?;
+    load_vae(&manifest, &weights, device)
+}
+
+/// Writes `dir/NAME.safetensors`, `NAME.json` (the model configuration) and
+/// `NAME.manifest.json`, each file whole or not at all; the manifest last, so a manifest never
+/// names weights that are not there yet.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn write_weights(
+    dir: &Path,
+    name: &str,
+    bytes: &[u8],
+    model: &impl Serialize,
+    manifest: &impl Serialize,
+) -> std::io::Result<()> {
+    use crate::io::write_atomic;
+    write_atomic(&dir.join(format!("{name}.safetensors")), bytes)?;
+    write_atomic(
+        &dir.join(format!("{name}.json")),
+        serde_json::to_string_pretty(model)?.as_bytes(),
+    )?;
+    write_atomic(
+        &dir.join(format!("{name}.manifest.json")),
+        serde_json::to_string_pretty(manifest)?.as_bytes(),
+    )?;
+    Ok(())
 }
 
 #[cfg(test)]

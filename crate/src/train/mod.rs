@@ -5,7 +5,10 @@
 
 pub mod adamw;
 pub mod dit;
+pub mod presets;
+pub mod profile;
 pub mod run;
+pub mod ship;
 pub mod vae;
 
 use std::fs;
@@ -67,6 +70,18 @@ pub(crate) fn check_schedule(
         return Err(format!("ema_decay must be in [0, 1) (got {d})"));
     }
     Ok(())
+}
+
+/// A short identity of a shard build for a training manifest: the sha256 of its
+/// `manifest.jsonl` ("unknown" when it cannot be read).
+pub fn data_version(shards: &Path) -> String {
+    match fs::read(shards.join("manifest.jsonl")) {
+        Ok(bytes) => format!(
+            "manifest.jsonl sha256 {}",
+            crate::pipeline::shipped::sha256_hex(&bytes)
+        ),
+        Err(_) => "unknown".into(),
+    }
 }
 
 /// Linear warm-up over `warmup` steps, then cosine decay to `lr * final_ratio` at `steps`

@@ -787,3 +787,49 @@ pub fn train_vae_from(
         last_val: trained.last_validation,
     })
 }
+
+/// Per-channel mean and standard deviation of the posterior means over `meshes` (the
+/// statistics a DiT normalises the latents by; written into the VAE's manifest).
+pub fn latent_statistics(
+    vae: &MeshVae,
+    cfg: &VaeConfig,
+    meshes: &[Mesh],
+    device: &Device,
+) -> (Vec<f32>, Vec<f32>) {
+    let d = cfg.latent_dim;
+    let (mut sum, mut sq, mut count) = (vec![0f64; d], vec![0f64; d], 0f64);
+    let mut tokens: Vec<_> = meshes
+        .iter()
+        .enumerate()
+        .filter_map(|(i, m)| build_tokens(m, &cfg.tokens_for(m.positions.len()), i as u64).ok())
+        .collect();
+    // One length per forward pass (length buckets).
+    tokens.sort_by_key(|t| t.mask.len());
+    let chunks = tokens
+        .chunk_by(|a, b| a.mask.len() == b.mask.len())
+        .flat_map(|same| same.chunks(16));
+    for chunk in chunks {
+        let batch = make_batch(chunk, device);
+        let mean = vae.encode(batch.features, &mut Trace::default()).mean;
+        let values = mean
+            .try_into_data()
+            .expect("readback")
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32");
+        for row in values.chunks_exact(d) {
+            for (c, &v) in row.iter().enumerate() {
+                sum[c] += v as f64;
+                sq[c] += (v as f64) * (v as f64);
+            }
+            count += 1.0;
+        }
+    }
+    let mean: Vec<f32> = sum.iter().map(|s| (s / count.max(1.0)) as f32).collect();
+    let std = sq
+        .iter()
+        .zip(&mean)
+        .map(|(q, &m)| ((q / count.max(1.0) - (m as f64).powi(2)).max(1e-12).sqrt()) as f32)
+        .collect();
+    (mean, std)
+}

@@ -14,15 +14,13 @@ use wasm_bindgen::prelude::*;
 use web_time::Instant;
 
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
-use crate::model::MeshVae;
-use crate::model::dit::Dit;
 use crate::model::sampler::euler_step;
 use crate::model::schedule::step_times;
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
     read_bits,
 };
-use crate::pipeline::shipped::{DitManifest, VaeManifest, load_dit, load_vae};
+use crate::pipeline::shipped::ShippedModels;
 use crate::web::viewer::Viewer;
 
 #[wasm_bindgen(start)]
@@ -37,10 +35,7 @@ fn js_error(e: impl std::fmt::Display) -> JsError {
 /// The loaded models and the device they run on.
 #[wasm_bindgen]
 pub struct MeshFlow {
-    vae: MeshVae,
-    vae_manifest: VaeManifest,
-    dit: Dit,
-    dit_manifest: DitManifest,
+    models: ShippedModels,
     device: Device,
     backend: String,
     /// Burn's WebGPU instance, adapter, device and queue, shared with the viewer.
@@ -84,20 +79,16 @@ impl MeshFlow {
                 )));
             }
         };
-        let (vae, vae_manifest) =
-            load_vae(vae_manifest.as_bytes(), &vae_weights, &device).map_err(js_error)?;
-        let (dit, dit_manifest) = load_dit(
+        let models = ShippedModels::from_bytes(
+            vae_manifest.as_bytes(),
+            &vae_weights,
             dit_manifest.as_bytes(),
             &dit_weights,
-            &vae_manifest,
             &device,
         )
         .map_err(js_error)?;
         Ok(MeshFlow {
-            vae,
-            vae_manifest,
-            dit,
-            dit_manifest,
+            models,
             device,
             backend: backend.into(),
             setup,
@@ -133,17 +124,11 @@ impl MeshFlow {
     /// The most vertices one generation can make (the VAE's N).
     #[wasm_bindgen(getter, js_name = maxVertices)]
     pub fn max_vertices(&self) -> usize {
-        self.vae_manifest.model.num_vertices
+        self.models.vae_manifest.model.num_vertices
     }
 
     fn generator(&self) -> Generator<'_> {
-        Generator::from_shipped(
-            &self.vae,
-            &self.vae_manifest,
-            &self.dit,
-            &self.dit_manifest,
-            &self.device,
-        )
+        self.models.generator(&self.device)
     }
 
     /// Generates a mesh from `points` (x, y, z, ... in any frame). `options` is JSON:
@@ -176,7 +161,7 @@ impl MeshFlow {
         let mut x = prepared.noise.clone();
         for i in 0..opts.steps {
             x = euler_step(
-                &self.dit,
+                &self.models.dit,
                 x,
                 times[i],
                 times[i + 1],

@@ -125,3 +125,20 @@ pub fn canonical_faces(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
     out.sort_unstable();
     out
 }
+
+/// Asserts that every compared tensor is within the golden tolerance, printing each
+/// difference, and returns the largest.
+pub fn assert_within_tolerance(diffs: &[meshflow::model::golden::TensorDiff]) -> f32 {
+    let mut worst = 0f32;
+    for d in diffs {
+        eprintln!("{}: max abs diff {:.3e}", d.name, d.max_abs_diff);
+        assert!(
+            d.max_abs_diff < meshflow::model::golden::TOLERANCE,
+            "{}: max abs diff {}",
+            d.name,
+            d.max_abs_diff
+        );
+        worst = worst.max(d.max_abs_diff);
+    }
+    worst
+}

@@ -1,0 +1,96 @@
+//! Means over a set of meshes' comparisons with their ground truth: what `eval vae` and
+//! `eval generate` report per method and per size bucket.
+
+use serde::Serialize;
+
+use crate::eval::metrics::Comparison;
+
+/// The size buckets evaluations report beside the whole set: meshes with at most this many
+/// ground-truth vertices.
+pub const VERTEX_BUCKETS: [usize; 3] = [256, 512, 1024];
+
+/// Mean surface and topology figures over meshes' comparisons with their ground truth;
+/// meshes without a comparison (no faces extracted) are counted, not averaged.
+#[derive(Clone, Debug, Default, Serialize)]
+pub struct SurfaceSummary {
+    /// Meshes whose extraction gave no faces; the figures below are over the others.
+    pub no_faces: usize,
+    pub chamfer_x100: f64,
+    pub hausdorff_x100: f64,
+    pub faces_out: f64,
+    pub faces_in: f64,
+    pub non_manifold_edges: f64,
+    pub boundary_edges: f64,
+    pub holes: f64,
+    pub inconsistent_winding_edges: f64,
+    pub degenerate_faces: f64,
+    pub components: f64,
+    /// The ground truths' own holes and components (artist meshes are often open and in
+    /// pieces), the yardstick for the two above.
+    pub gt_holes: f64,
+    pub gt_components: f64,
+    /// Meshes whose ground truth is closed (no boundary edge), and the holes of these
+    /// meshes' predictions: holes where there should be none.
+    pub gt_closed: usize,
+    pub holes_where_gt_closed: f64,
+}
+
+impl SurfaceSummary {
+    /// The means over `comparisons` (`None`: a mesh with no faces).
+    pub fn of(comparisons: &[Option<&Comparison>]) -> Self {
+        let surfaces: Vec<&Comparison> = comparisons.iter().flatten().copied().collect();
+        let k = surfaces.len().max(1) as f64;
+        // `+ 0.0` turns the -0.0 of an empty sum into 0.0 in the JSON.
+        let mean =
+            |f: &dyn Fn(&Comparison) -> f64| surfaces.iter().map(|c| f(c)).sum::<f64>() / k + 0.0;
+        let closed: Vec<&&Comparison> = surfaces
+            .iter()
+            .filter(|c| c.gt_topology.boundary_edges == 0)
+            .collect();
+        SurfaceSummary {
+            no_faces: comparisons.len() - surfaces.len(),
+            chamfer_x100: mean(&|c| c.chamfer_x100),
+            hausdorff_x100: mean(&|c| c.hausdorff_x100),
+            faces_out: mean(&|c| c.pred_topology.faces as f64),
+            faces_in: mean(&|c| c.gt_topology.faces as f64),
+            non_manifold_edges: mean(&|c| c.pred_topology.non_manifold_edges as f64),
+            boundary_edges: mean(&|c| c.pred_topology.boundary_edges as f64),
+            holes: mean(&|c| c.pred_topology.holes as f64),
+            inconsistent_winding_edges: mean(&|c| {
+                c.pred_topology.inconsistent_winding_edges as f64
+            }),
+            degenerate_faces: mean(&|c| c.pred_topology.degenerate_faces as f64),
+            components: mean(&|c| c.pred_topology.components as f64),
+            gt_holes: mean(&|c| c.gt_topology.holes as f64),
+            gt_components: mean(&|c| c.gt_topology.components as f64),
+            gt_closed: closed.len(),
+            holes_where_gt_closed: closed
+                .iter()
+                .map(|c| c.pred_topology.holes as f64)
+                .sum::<f64>()
+                / closed.len().max(1) as f64,
+        }
+    }
+}
+
+/// `summarise` over the whole set and over each of [`VERTEX_BUCKETS`] (named `<= N`), with
+/// `vertices` giving an item's ground-truth vertex count.
+pub fn bucketed<T, S>(
+    items: &[T],
+    vertices: impl Fn(&T) -> usize,
+    summarise: impl Fn(&[&T]) -> S,
+) -> (S, Vec<(String, S)>) {
+    let all: Vec<&T> = items.iter().collect();
+    let buckets = VERTEX_BUCKETS
+        .iter()
+        .map(|&limit| {
+            let some: Vec<&T> = all
+                .iter()
+                .copied()
+                .filter(|t| vertices(t) <= limit)
+                .collect();
+            (format!("<= {limit}"), summarise(&some))
+        })
+        .collect();
+    (summarise(&all), buckets)
+}
