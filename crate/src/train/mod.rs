@@ -19,6 +19,7 @@ use std::collections::BTreeMap;
 use burn::module::{Module, ModuleMapper, ModuleVisitor, Param};
 use burn::tensor::{Device, Tensor};
 
+use crate::io::write_atomic;
 use crate::model::weights::{TensorMap, WeightsError, load_module, module_tensors, reference_name};
 
 /// Why training stopped early.
@@ -333,11 +334,4 @@ impl DeviceEma {
         let loaded = load_module(module.clone(), map, &|_| false)?;
         Ok(Self::new(&loaded, decay))
     }
-}
-
-/// Writes through a temporary file and a rename, so a killed run never leaves a torn file.
-pub(crate) fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let tmp = path.with_extension("tmp");
-    fs::write(&tmp, bytes)?;
-    fs::rename(tmp, path)
 }
