@@ -10,7 +10,7 @@
 // machine without a GPU, not of a visitor's GPU. --cpu-only skips the (slow) WebGPU runs and
 // times N warm CPU runs (default 3) into FILE, for comparing two builds side by side.
 import { chromium } from 'playwright-core';
-import { mkdtempSync, rmSync, statSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdtempSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { execSync } from 'node:child_process';
 import { cpus, tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
@@ -45,6 +45,7 @@ async function firstMesh(page, reload, webgpu) {
   const report = await page.evaluate(() => window.__meshflowReport);
   return {
     backend: await page.evaluate(() => document.body.dataset.backend),
+    wasm_module: (await page.evaluate(() => document.body.dataset.wasmModule)) ?? 'webgpu',
     weights_from_cache: (await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'true',
     model_ready_s: ready / 1000,
     generate_s: (done - clicked) / 1000,
@@ -72,7 +73,10 @@ async function run(webgpu, runs) {
   return results;
 }
 
+// The module the CPU path loads: meshflow_cpu where it is built (since the split), else the one
+// module of earlier builds.
 const wasm = join(ROOT, 'web/pkg/meshflow_bg.wasm');
+const cpuWasm = existsSync(join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm')) ? join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm') : wasm;
 if (cpuOnly) {
   const runs = Number(arg('--runs', 3)) || 3;
   const [, ...warm] = await run(false, [false, ...Array(runs).fill(true)]);
@@ -81,8 +85,9 @@ if (cpuOnly) {
     method: `node bench/browser.mjs --cpu-only: headless Chromium ${execSync('chromium --version').toString().trim()}, ` +
       `the CPU path in wasm, the lantern scan at the page defaults with ${steps} steps, ${runs} warm runs after a first load`,
     machine: `${cpus()[0].model}, ${cpus().length} threads`,
-    wasm_bytes: statSync(wasm).size,
-    wasm_gzip_bytes: Number(execSync(`gzip -9 -c ${wasm} | wc -c`).toString()),
+    wasm_file: cpuWasm.slice(ROOT.length + 1),
+    wasm_bytes: statSync(cpuWasm).size,
+    wasm_gzip_bytes: Number(execSync(`gzip -9 -c ${cpuWasm} | wc -c`).toString()),
     cpu: warm,
   };
   writeFileSync(arg('-o', join(ROOT, 'bench/browser_cpu.json')), `${JSON.stringify(result, null, 2)}\n`);

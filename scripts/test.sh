@@ -13,8 +13,8 @@
 #   cargo clippy --workspace --all-targets -- -D warnings
 #   cargo doc --no-deps -p meshflow --features train,data-build
 #             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
-#   bash scripts/build-web.sh              (the wasm module, into web/pkg/)
-#   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web
+#   bash scripts/build-web.sh              (the two wasm modules, into web/pkg/)
+#   cargo clippy --target wasm32-unknown-unknown -p meshflow --features web[,wgpu]
 #                --profile wasm-release -- -D warnings
 #                                          (the wasm-only code: web/api.rs, web/viewer.rs)
 #   node tests/e2e/browser.test.mjs        (the page and the npm package in
@@ -136,10 +136,13 @@ check_docs() {
 
 build_web() { bash scripts/build-web.sh; }
 
-# The wasm-only modules are invisible to the native clippy run above.
+# The wasm-only modules are invisible to the native clippy run above; both browser modules
+# (the CPU-only one and the one with WebGPU) are checked.
 check_clippy_wasm() {
     cargo clippy --target wasm32-unknown-unknown -p meshflow --features web \
-        --profile wasm-release -- -D warnings
+        --profile wasm-release -- -D warnings &&
+        cargo clippy --target wasm32-unknown-unknown -p meshflow --features web,wgpu \
+            --profile wasm-release -- -D warnings
 }
 
 run_browser_tests() { node tests/e2e/browser.test.mjs 2>&1 | tee "$LOG_DIR/browser.log"; }

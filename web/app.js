@@ -144,6 +144,7 @@ function onWorkerMessage({ data }) {
         useViewer(new Viewer2D($('canvas')), $('canvas'));
       }
       document.body.dataset.backend = data.backend;
+      document.body.dataset.wasmModule = data.module;
       document.body.dataset.weightsFromCache = String(data.fromCache);
       document.body.dataset.backendReason = fallbackReason ?? data.reason;
       $('backend').textContent =

@@ -1,5 +1,5 @@
 // Runs the model off the main thread so the page stays responsive during a generation.
-import { loadModel, readInput, wasmMemoryBytes } from './lib/index.js';
+import { loadModel, readInput, wasmMemoryBytes, wasmModule } from './lib/index.js';
 
 let model = null;
 let abort = null;
@@ -25,6 +25,8 @@ self.onmessage = async ({ data }) => {
         asked: model.backendReport.asked,
         fromCache: model.weightsFromCache,
         maxVertices: model.maxVertices,
+        // Which wasm module was downloaded: 'cpu' (meshflow_cpu) or 'webgpu' (meshflow).
+        module: wasmModule(),
       });
     } else if (data.type === 'read') {
       const { points, sourcePoints, fromMesh } = await readInput(new Uint8Array(data.bytes), data.name);

@@ -194,6 +194,9 @@ await check("'auto' picks the CPU on this software adapter and says why", async 
   const shown = await page.textContent('#backend');
   assert(shown.includes('CPU') && shown.includes('swiftshader'), `shown: ${shown}`);
   assert((await page.inputValue('#backend-choice')) === 'auto', 'the Backend menu does not show auto');
+  // Only the small CPU-only module was instantiated for it.
+  const module = await page.evaluate(() => document.body.dataset.wasmModule);
+  assert(module === 'cpu', `'auto' on the CPU loaded the ${module} module`);
 });
 
 await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adapter', async () => {
@@ -433,7 +436,7 @@ await check('the npm package is publishable: `npm publish --dry-run` passes with
   const out = execFileSync('npm', ['publish', '--dry-run'], { cwd: ROOT, stdio: 'pipe', encoding: 'utf8' });
   const log = execFileSync('npm', ['pack', '--dry-run', '--json'], { cwd: ROOT, encoding: 'utf8' });
   const files = JSON.parse(log)[0].files.map((f) => f.path);
-  for (const f of ['web/pkg/meshflow_bg.wasm', 'weights/f16/vae.safetensors', 'weights/f16/dit.safetensors', 'web/lib/index.d.ts']) {
+  for (const f of ['web/pkg/meshflow_bg.wasm', 'web/pkg/meshflow_cpu_bg.wasm', 'weights/f16/vae.safetensors', 'weights/f16/dit.safetensors', 'web/lib/index.d.ts']) {
     assert(files.includes(f), `${f} is not in the package: ${files}`);
   }
   assert(!files.includes('weights/dit.safetensors'), 'the f32 weights doubled the package');
@@ -450,7 +453,7 @@ await check('the npm package imports and generates the way a user would', async 
   writeFileSync(join(app, 'index.html'), '<!doctype html><script type="module" src="main.js"></script>');
   writeFileSync(
     join(app, 'main.js'),
-    `import { loadModel, readPoints } from './node_modules/meshflow/web/lib/index.js';
+    `import { loadModel, readPoints, wasmModule } from './node_modules/meshflow/web/lib/index.js';
      const bytes = new Uint8Array(await (await fetch('lantern.ply')).arrayBuffer());
      const points = await readPoints(bytes, 'lantern.ply');
      const options = ${JSON.stringify(SAME_AS_NATIVE)};
@@ -459,6 +462,7 @@ await check('the npm package imports and generates the way a user would', async 
      try {
        for (const backend of ['webgpu', 'cpu']) {
          const model = await loadModel({ backend });
+         window.__modules = { ...window.__modules, [backend]: wasmModule() };
          const mesh = await model.generate(points, options);
          window.__glbs[backend] = Array.from(mesh.toGlb());
          if (backend === 'cpu') {
@@ -511,10 +515,13 @@ await check('the npm package imports and generates the way a user would', async 
   const glbs = await p.evaluate(() => window.__glbs);
   const filtered = await p.evaluate(() => window.__filtered);
   const optionChecks = await p.evaluate(() => window.__options);
+  const modules = await p.evaluate(() => window.__modules);
   await b.close();
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
   assert(wasmMeshes.webgpu.indices.length > 0, 'the WebGPU mesh has no faces');
+  // Each backend ran in its own module: WebGPU in meshflow, the CPU in meshflow_cpu.
+  assert(modules.webgpu === 'webgpu' && modules.cpu === 'cpu', `modules: ${JSON.stringify(modules)}`);
   // The default extraction is manifold and consistently wound; 'paper' reaches Algorithm 1,
   // and its optional filter leaves no edge with a third face.
   const f = filtered;

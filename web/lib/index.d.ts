@@ -135,11 +135,20 @@ export interface LoadOptions {
   onProgress?: (bytes: number, total: number) => void;
   /** Keep the weights in Cache Storage (default true). */
   useCache?: boolean;
-  /** Where meshflow_bg.wasm is (default: beside the glue). */
-  wasmUrl?: string | URL;
+  /**
+   * Where the wasm files are, if not beside the glue in pkg/: `cpu` for meshflow_cpu_bg.wasm
+   * (the CPU path alone, loaded when the CPU is chosen) and `webgpu` for meshflow_bg.wasm.
+   */
+  wasmUrls?: { cpu?: string | URL; webgpu?: string | URL };
 }
 
-export function initWasm(wasmUrl?: string | URL): Promise<unknown>;
+/**
+ * Instantiates a wasm module once: `'cpu'` (meshflow_cpu: the CPU path alone, the smaller
+ * download) or `'webgpu'` (meshflow: WebGPU and the CPU). Resolves to its glue and memory.
+ */
+export function initWasm(which?: 'cpu' | 'webgpu', wasmUrl?: string | URL): Promise<{ glue: unknown; memory: WebAssembly.Memory }>;
+/** Which wasm module is in use (`null` before any is loaded). */
+export function wasmModule(): 'cpu' | 'webgpu' | null;
 export function loadModel(options?: LoadOptions): Promise<Model>;
 export function fetchWeights(
   baseUrl: string | URL,

@@ -7,17 +7,39 @@
 //   const points = await readPoints(bytes, 'scan.ply');
 //   const mesh = await model.generate(points, { steps: 28, onStep: (i, n) => {} });
 //   const glb = mesh.toGlb();
-import init, { MeshFlow, readInput as readInputWasm } from '../pkg/meshflow.js';
+//
+// Two wasm modules: meshflow_cpu (the CPU path alone, about a fifth of the bytes) and meshflow
+// (WebGPU and the CPU). Only the one the chosen backend needs is downloaded.
 
 const FILES = ['vae.manifest.json', 'vae.safetensors', 'dit.manifest.json', 'dit.safetensors'];
 const CACHE = 'meshflow-weights-v1';
 
-let wasmReady;
+const MODULES = {
+  cpu: () => import('../pkg/meshflow_cpu.js'),
+  webgpu: () => import('../pkg/meshflow.js'),
+};
+const loaded = {};
+// The module readInput and wasmMemoryBytes use: the last one initialised.
+let current = null;
 
-/** Instantiates the wasm module once (from `wasmUrl`, default: beside the JS glue). */
-export function initWasm(wasmUrl) {
-  wasmReady ??= init(wasmUrl ? { module_or_path: wasmUrl } : undefined);
-  return wasmReady;
+/**
+ * Instantiates one of the wasm modules once and returns its exports: `'cpu'` (meshflow_cpu,
+ * the CPU path only) or `'webgpu'` (meshflow: WebGPU and the CPU). `wasmUrl`: where its
+ * `_bg.wasm` is (default: beside the JS glue).
+ */
+export function initWasm(which = 'cpu', wasmUrl) {
+  if (!MODULES[which]) throw new TypeError(`initWasm: which must be 'cpu' or 'webgpu', got ${JSON.stringify(which)}`);
+  loaded[which] ??= MODULES[which]().then(async (glue) => {
+    const instance = await glue.default(wasmUrl ? { module_or_path: wasmUrl } : undefined);
+    return { glue, memory: instance.memory };
+  });
+  current = loaded[which];
+  return loaded[which];
+}
+
+/** The module already in use, else the small CPU one. */
+function anyWasm() {
+  return current ?? initWasm('cpu');
 }
 
 async function fetchBytes(url, onBytes) {
@@ -273,18 +295,19 @@ export async function loadModel({
   backend = 'auto',
   onProgress,
   useCache = true,
-  wasmUrl,
+  wasmUrls = {},
 } = {}) {
   if (!['auto', 'webgpu', 'cpu'].includes(backend)) {
     throw new TypeError(`backend must be 'auto', 'webgpu' or 'cpu', got ${JSON.stringify(backend)}`);
   }
-  const [choice] = await Promise.all([
-    backend === 'auto' ? chooseBackend() : { backend, reason: `asked for ${backend}`, adapter: null },
-    initWasm(wasmUrl),
+  const choice = backend === 'auto' ? await chooseBackend() : { backend, reason: `asked for ${backend}`, adapter: null };
+  const [{ glue }, { files, fromCache }] = await Promise.all([
+    initWasm(choice.backend, wasmUrls[choice.backend]),
+    fetchWeights(weights, { onProgress, useCache }),
   ]);
-  const { files, fromCache } = await fetchWeights(weights, { onProgress, useCache });
   const text = new TextDecoder();
-  const load = (which) => MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
+  // After a failed WebGPU start the WebGPU module's own CPU path runs (it is loaded already).
+  const load = (which) => glue.MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
   try {
     let inner;
     let { reason } = choice;
@@ -314,8 +337,8 @@ export async function loadModel({
  * Throws an Error with a message for bad files.
  */
 export async function readInput(bytes, fileName) {
-  await initWasm();
-  const read = readInputWasm(bytes, fileName);
+  const { glue } = await anyWasm();
+  const read = glue.readInput(bytes, fileName);
   try {
     return { points: new Float32Array(read.points), sourcePoints: read.sourcePoints, fromMesh: read.fromMesh };
   } finally {
@@ -330,5 +353,10 @@ export async function readPoints(bytes, fileName) {
 
 /** Bytes of the wasm module's memory (it grows and never shrinks; for diagnostics and tests). */
 export async function wasmMemoryBytes() {
-  return (await initWasm()).memory.buffer.byteLength;
+  return (await anyWasm()).memory.buffer.byteLength;
+}
+
+/** Which wasm module is in use: `'cpu'` (meshflow_cpu), `'webgpu'` (meshflow) or `null`. */
+export function wasmModule() {
+  return Object.keys(loaded).find((k) => loaded[k] === current) ?? null;
 }

@@ -3,11 +3,20 @@
 //! plainly through [`MeshFlow::backend`]), and write GLB / OBJ. Every failure is a JS
 //! exception with a message; a panic hook reports the unexpected in the console.
 //!
+//! Two modules are built from this file (scripts/build-web.sh): with feature `wgpu` (WebGPU
+//! and the CPU, plus the wgpu viewer) and without it (the CPU alone: a third of the bytes, for
+//! the machines where the CPU path is the faster one anyway).
+//!
 //! Generation drives the same stages as the CLI ([`crate::pipeline::generate::Generator`]) but reads
 //! back asynchronously, and waits for the GPU after every Euler step, so the page can show
 //! real progress and cancel between steps.
 
-use burn::tensor::wgpu::WgpuSetup;
+/// Burn's WebGPU instance, adapter, device and queue, shared with the viewer; nothing in the
+/// CPU-only module.
+#[cfg(feature = "wgpu")]
+type GpuSetup = burn::tensor::wgpu::WgpuSetup;
+#[cfg(not(feature = "wgpu"))]
+type GpuSetup = ();
 use burn::tensor::{Device, Tensor, TensorData};
 use glam::Vec3;
 use wasm_bindgen::prelude::*;
@@ -21,6 +30,7 @@ use crate::pipeline::generate::{
     read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
+#[cfg(feature = "wgpu")]
 use crate::web::viewer::Viewer;
 
 #[wasm_bindgen(start)]
@@ -38,16 +48,30 @@ pub struct MeshFlow {
     models: ShippedModels,
     device: Device,
     backend: String,
-    /// Burn's WebGPU instance, adapter, device and queue, shared with the viewer.
-    setup: Option<WgpuSetup>,
+    /// Set on WebGPU.
+    #[cfg_attr(not(feature = "wgpu"), allow(dead_code))]
+    setup: Option<GpuSetup>,
 }
 
 /// The WebGPU device and its wgpu handles, or why there is none.
-async fn webgpu() -> Result<(Device, WgpuSetup), String> {
+#[cfg(feature = "wgpu")]
+async fn webgpu() -> Result<(Device, GpuSetup), String> {
     Device::wgpu_options()
         .init_with_setup_async()
         .await
         .map_err(|e| format!("no WebGPU adapter: {e}"))
+}
+
+/// The CPU-only module has no WebGPU to open.
+#[cfg(not(feature = "wgpu"))]
+async fn webgpu() -> Result<(Device, GpuSetup), String> {
+    Err("this is the CPU-only module (meshflow_cpu.js); WebGPU is in meshflow.js".into())
+}
+
+/// Whether this module can run on WebGPU (false for the CPU-only module).
+#[wasm_bindgen(js_name = hasWebGpu)]
+pub fn has_webgpu() -> bool {
+    cfg!(feature = "wgpu")
 }
 
 #[wasm_bindgen]
@@ -98,6 +122,7 @@ impl MeshFlow {
     /// A wgpu viewer drawing into `canvas` (an `OffscreenCanvas`) on this model's WebGPU
     /// device. The CPU backend has no device to share: that is an error, and the page draws
     /// with its 2D-canvas viewer instead.
+    #[cfg(feature = "wgpu")]
     #[wasm_bindgen(js_name = createViewer)]
     pub fn create_viewer(&self, canvas: web_sys::OffscreenCanvas) -> Result<Viewer, JsError> {
         let setup = self.setup.as_ref().ok_or_else(|| {
@@ -106,10 +131,21 @@ impl MeshFlow {
         Viewer::new(setup, canvas).map_err(js_error)
     }
 
+    /// The CPU-only module has no viewer: always an error (the page draws with its 2D-canvas
+    /// viewer instead).
+    #[cfg(not(feature = "wgpu"))]
+    #[wasm_bindgen(js_name = createViewer)]
+    pub fn create_viewer(&self, _canvas: web_sys::OffscreenCanvas) -> Result<JsValue, JsError> {
+        Err(js_error(
+            "the wgpu viewer needs the WebGPU backend; this is the CPU-only module",
+        ))
+    }
+
     /// Destroys the WebGPU device, as a GPU reset or driver crash would: every later use
     /// fails. For testing the page's fallback to the CPU path; nothing on the CPU backend.
     #[wasm_bindgen(js_name = destroyDevice)]
     pub fn destroy_device(&self) {
+        #[cfg(feature = "wgpu")]
         if let Some(setup) = &self.setup {
             setup.device.destroy();
         }
