@@ -78,8 +78,9 @@ pub fn has_webgpu() -> bool {
 impl MeshFlow {
     /// Loads the VAE and DiT from their manifests (JSON text) and safetensors bytes, checking
     /// sha256, that the DiT belongs to this VAE, and every tensor's name and shape.
-    /// `backend`: `"webgpu"` (fail without an adapter), `"cpu"`, or `"auto"` (WebGPU when an
-    /// adapter exists, else the CPU; read [`Self::backend`] to say which).
+    /// `backend`: `"webgpu"` (fail without an adapter, and always in the CPU-only module),
+    /// `"cpu"`, or `"auto"` (WebGPU when this module has it and an adapter exists, else the
+    /// CPU; read [`Self::backend`] to say which).
     pub async fn load(
         vae_manifest: String,
         vae_weights: Vec<u8>,
