@@ -7,13 +7,19 @@
 #  1. a 40-step probe measures seconds per step on one thread, and the arm's cosine schedule
 #     is sized to the budget (steps = 0.97 * BUDGET_S / s_per_step), so no arm is cut
 #     mid-schedule. The budget is in probe seconds, not wall time, so that other work on
-#     this (shared, 2-core) machine while the arms train does not tilt the comparison;
+#     this (shared, 2-core) machine while the arms train does not tilt the comparison (the
+#     probe itself needs a quiet machine: a probe.json already in RUNS/<arm>/ is kept, so one
+#     measured earlier can be reused);
 #  2. training stops at STAGES equal step fractions (`--stop-at-step`; the same command then
 #     resumes exactly), and the EMA weights at each stop are kept as a snapshot;
 #  3. every snapshot is evaluated by generation on the first EVAL_LIMIT validation meshes
 #     (`meshflow eval generate --split val`, the default pipeline), giving validation CD
 #     against training time beside the flow loss in metrics.jsonl.
-# Then bench/dit_sweep/plot.py draws both against time and writes the table.
+#  4. the arm's records without its weights (probe, config, the validation rows of
+#     metrics.jsonl, each snapshot's stage and evaluation summary) are copied into
+#     bench/dit_sweep/runs/<arm>/, which is committed, so the curves outlive the machine.
+# Then bench/dit_sweep/plot.py draws both against time from bench/dit_sweep/runs and writes
+# the table.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 RUNS="${1:?usage: run_sweep.sh RUNS [ARM ...]}"; shift
@@ -83,5 +89,27 @@ for arm in "${ARMS[@]}"; do
             --weights "$snap" -o "$snap/eval.json" > "$snap/eval.log" 2>&1
     done
 done
-python3 "$ROOT/bench/dit_sweep/plot.py" "$RUNS" "$ROOT/bench/dit_sweep/sweep.png" \
+KEEP="$ROOT/bench/dit_sweep/runs"
+for arm in "${ARMS[@]}"; do
+    python3 - "$RUNS/$arm" "$KEEP/$arm" <<'EOF'
+import json, pathlib, shutil, sys
+run, keep = pathlib.Path(sys.argv[1]), pathlib.Path(sys.argv[2])
+(keep / "train").mkdir(parents=True, exist_ok=True)
+for f in ("probe.json", "config.json"):
+    shutil.copy(run / f, keep / f)
+rows = [l for l in (run / "train" / "metrics.jsonl").read_text().splitlines() if '"val_loss"' in l]
+(keep / "train" / "metrics.jsonl").write_text("\n".join(rows) + "\n")
+for snap in sorted(run.glob("snap_*")):
+    if (snap / "eval.json").is_file():
+        (keep / snap.name).mkdir(exist_ok=True)
+        shutil.copy(snap / "stage.json", keep / snap.name / "stage.json")
+        summary = {"all": json.loads((snap / "eval.json").read_text())["all"]}
+        (keep / snap.name / "eval.json").write_text(json.dumps(summary, indent=1) + "\n")
+EOF
+done
+if [[ -f "$RUNS/shipped_eval.json" ]]; then
+    python3 -c "import json, sys; json.dump({'all': json.load(open(sys.argv[1]))['all']}, open(sys.argv[2], 'w'), indent=1)" \
+        "$RUNS/shipped_eval.json" "$KEEP/shipped_eval.json"
+fi
+python3 "$ROOT/bench/dit_sweep/plot.py" "$KEEP" "$ROOT/bench/dit_sweep/sweep.png" \
     --table "$ROOT/bench/dit_sweep/sweep.md"
