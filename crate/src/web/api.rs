@@ -68,12 +68,6 @@ async fn webgpu() -> Result<(Device, GpuSetup), String> {
     Err("this is the CPU-only module (meshflow_cpu.js); WebGPU is in meshflow.js".into())
 }
 
-/// Whether this module can run on WebGPU (false for the CPU-only module).
-#[wasm_bindgen(js_name = hasWebGpu)]
-pub fn has_webgpu() -> bool {
-    cfg!(feature = "wgpu")
-}
-
 #[wasm_bindgen]
 impl MeshFlow {
     /// Loads the VAE and DiT from their manifests (JSON text) and safetensors bytes, checking
