@@ -48,7 +48,18 @@ pub fn prepare(mesh: &Mesh) -> Result<(Mesh, Normalization), ReconstructError> {
     Ok((norm.apply_mesh(&cleaned), norm.inverse()))
 }
 
-/// Per-mesh reconstruction figures. Distances are x100 like the paper's tables.
+/// `points` (in the model frame, like `gt`) in the frame of the metrics, docs/design.md
+/// section 3: `gt`'s box mapped to [-0.5, 0.5], as CD and HD are. The model frame is twice
+/// that size, so a vertex distance taken there reads double.
+fn metric_frame(gt: &Mesh, points: &[Vec3]) -> Vec<Vec3> {
+    let norm = gt
+        .aabb()
+        .map_or(Normalization::IDENTITY, Normalization::to_metric_frame);
+    points.iter().map(|&p| norm.apply(p)).collect()
+}
+
+/// Per-mesh reconstruction figures. Distances are x100 like the paper's tables, in the
+/// metrics' frame (the ground truth's box mapped to [-0.5, 0.5]).
 #[derive(Clone, Debug, Serialize)]
 pub struct ReconstructionMetrics {
     pub vertices: usize,
@@ -190,7 +201,11 @@ pub fn reconstruct_batch(
             metrics: ReconstructionMetrics {
                 vertices: real,
                 faces: gt.faces.len(),
-                vertex_distance_x100: 100.0 * vertex_distance(&pos[..real], &t.positions[..real])?,
+                vertex_distance_x100: 100.0
+                    * vertex_distance(
+                        &metric_frame(gt, &pos[..real]),
+                        &metric_frame(gt, &t.positions[..real]),
+                    )?,
                 normal_distance_x100: 100.0 * normal_distance(&nrm[..real], &t.normals[..real])?,
                 edge_precision: scores.precision,
                 edge_recall: scores.recall,
@@ -206,4 +221,34 @@ pub fn reconstruct_batch(
         });
     }
     Ok(results)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::eval::metrics::vertex_distance;
+    use crate::geometry::primitives::cube;
+
+    #[test]
+    fn vertex_distance_is_taken_in_the_metrics_frame() {
+        // A model-frame cube spans [-1, 1]; the metrics' frame maps its box to [-0.5, 0.5], so
+        // a uniform offset of 0.1 model units reads 0.05 there.
+        let gt = Normalization::to_model_frame(cube().aabb().unwrap()).apply_mesh(&cube());
+        let moved: Vec<Vec3> = gt
+            .positions
+            .iter()
+            .map(|&p| p + Vec3::new(0.1, 0.0, 0.0))
+            .collect();
+        let d = vertex_distance(
+            &metric_frame(&gt, &moved),
+            &metric_frame(&gt, &gt.positions),
+        );
+        assert!((d.unwrap() - 0.05).abs() < 1e-6);
+        let box_after = Mesh {
+            positions: metric_frame(&gt, &gt.positions),
+            ..gt.clone()
+        };
+        let b = box_after.aabb().unwrap();
+        assert!((b.max_extent() - 1.0).abs() < 1e-6 && (b.min.x + 0.5).abs() < 1e-6);
+    }
 }
