@@ -269,6 +269,7 @@ $('generate').addEventListener('click', () => {
       vertices: num('vertices'),
       faces: num('faces'),
       fit: $('fit').checked,
+      closeHoles: $('close-holes').checked,
       steps: num('steps'),
       seed: num('seed'),
       extraction: $('extraction').value,

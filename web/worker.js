@@ -39,6 +39,7 @@ self.onmessage = async ({ data }) => {
         vertices: data.vertices,
         faces: data.faces,
         fit: data.fit,
+        closeHoles: data.closeHoles,
         steps: data.steps,
         seed: data.seed,
         extraction: data.extraction,

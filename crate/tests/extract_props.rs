@@ -1,5 +1,6 @@
 //! Property tests of extraction: Algorithm 1 on meshes it must reproduce exactly, the
-//! manifold method's guarantees for arbitrary edges and edge scores, and surface completion's.
+//! manifold method's guarantees for arbitrary edges and edge scores, and those of surface
+//! completion and hole closing.
 
 use glam::Vec3;
 use meshflow::Mesh;
@@ -218,5 +219,39 @@ proptest! {
         let mut dedup = faces.clone();
         dedup.dedup();
         prop_assert_eq!(dedup.len(), faces.len());
+    }
+
+    #[test]
+    fn closing_holes_keeps_the_surface_manifold_and_consistently_wound(
+        kind in 0u8..2, size in 1u32..4, jitter in 0.0f32..0.1, delete in 0u64..90,
+        gap in 0.0f32..10.0, max_edges in 0usize..12, with_points in any::<bool>(),
+        seed in any::<u64>()
+    ) {
+        // A consistently wound mesh with holes, closed against points sampled from the whole
+        // mesh (or without points: every loop closed that can be).
+        let whole = random_mesh(kind, size, jitter, 0, seed);
+        let points = if with_points {
+            meshflow::geometry::sample::sample_surface(&whole, 2000, seed).unwrap().points
+        } else {
+            Vec::new()
+        };
+        let mut holed = random_mesh(kind, size, jitter, delete, seed);
+        holed.normals = vertex_normals(&holed.positions, &whole.faces);
+        let before = TopologyReport::of(&holed);
+        let opts = meshflow::surface::close::CloseOptions { enabled: true, max_edges, max_gap: gap };
+        let mut out = holed.clone();
+        let r = meshflow::surface::close::close_holes(&mut out, &points, &opts);
+        let t = TopologyReport::of(&out);
+        prop_assert!(out.validate().is_ok());
+        prop_assert_eq!(t.non_manifold_edges, 0);
+        prop_assert_eq!(t.inconsistent_winding_edges, 0);
+        prop_assert_eq!(t.degenerate_faces, before.degenerate_faces);
+        prop_assert!(t.holes <= before.holes);
+        // Only added: the old faces and vertices stay, in order.
+        prop_assert_eq!(&out.faces[..holed.faces.len()], &holed.faces[..]);
+        prop_assert_eq!(&out.positions[..holed.positions.len()], &holed.positions[..]);
+        prop_assert_eq!(out.faces.len(), holed.faces.len() + r.faces_added);
+        prop_assert_eq!(out.positions.len(), holed.positions.len() + r.vertices_added);
+        prop_assert_eq!(out.normals.len(), out.positions.len());
     }
 }

@@ -102,7 +102,8 @@ fn generated_meshes_are_valid_and_reported() {
         ),
         (0, 0)
     );
-    assert!(g.mesh.positions.len() <= m.vae_cfg.num_vertices);
+    // The budget's vertices, plus one for each hole closed by a fan.
+    assert!(g.mesh.positions.len() <= g.vertex_budget + g.close.vertices_added);
     assert!(g.times.sample_s > 0.0 && g.times.decode_s > 0.0);
 }
 
@@ -241,7 +242,7 @@ fn bad_inputs_are_typed_errors() {
         run(points.clone(), both),
         GenerateError::VerticesAndFaces
     ));
-    for asked in [0, 7, 539, 100_000] {
+    for asked in [0, 9, 641, 100_000] {
         let opts = GenerateOptions {
             vertices: None,
             faces: Some(asked),
@@ -252,8 +253,8 @@ fn bad_inputs_are_typed_errors() {
             matches!(
                 err,
                 GenerateError::Faces {
-                    min: 8,
-                    max: 538,
+                    min: 10,
+                    max: 640,
                     ..
                 }
             ),
@@ -349,7 +350,29 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
     );
     // The untrained DiT's vertices are anywhere; fitted, they sit on the sphere's samples.
     assert!(d1 < 0.5 * d0, "mean vertex distance {d0} -> {d1}");
-    for g in [before, after] {
+    // Without completion nothing is closed either: the model's own faces.
+    assert_eq!(
+        before.close,
+        meshflow::surface::close::CloseReport::default()
+    );
+    // Hole closing only adds to the same completed mesh, and can be turned off.
+    let open = GenerateOptions {
+        close: meshflow::surface::close::CloseOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        ..options(3)
+    };
+    let open = &generator
+        .generate(std::slice::from_ref(&points), &open, &mut |_, _| true)
+        .unwrap()[0];
+    assert_eq!(open.close, meshflow::surface::close::CloseReport::default());
+    assert!(after.topology.holes <= open.topology.holes);
+    assert_eq!(
+        after.mesh.faces.len(),
+        open.mesh.faces.len() + after.close.faces_added
+    );
+    for g in [before, after, open] {
         g.mesh.validate().unwrap();
         assert_eq!(g.topology.non_manifold_edges, 0);
         assert_eq!(g.topology.inconsistent_winding_edges, 0);
@@ -372,5 +395,5 @@ fn a_face_count_sets_the_vertex_budget() {
         out[0].vertex_budget,
         meshflow::pipeline::generate::budget_for_faces(90, 512).unwrap()
     );
-    assert_eq!(out[0].vertex_budget, 86);
+    assert_eq!(out[0].vertex_budget, 72);
 }

@@ -22,6 +22,7 @@ use meshflow::model::schedule::ScheduleMode;
 use meshflow::pipeline::budget::ShapeFeatures;
 use meshflow::pipeline::generate::{GenerateOptions, Generated, StageTimes, input_points};
 use meshflow::pipeline::shipped::ShippedModels;
+use meshflow::surface::close::CloseOptions;
 use meshflow::surface::complete::CompleteOptions;
 use meshflow::surface::fit::FitOptions;
 use serde::Serialize;
@@ -118,6 +119,18 @@ pub struct SamplingArgs {
     /// Completion: nearest vertices each vertex may make a new face with.
     #[arg(long, default_value_t = CompleteOptions::default().neighbours)]
     complete_neighbours: usize,
+    /// Leave open the holes completion could not fill (by default each is closed where the
+    /// input goes on, by a fan around one new vertex or a triangulation of its border, never
+    /// folded; only when completing).
+    #[arg(long)]
+    no_close_holes: bool,
+    /// Hole closing: leave open the loops of more than this many edges (0 = no limit).
+    #[arg(long, default_value_t = CloseOptions::default().max_edges)]
+    close_max_edges: usize,
+    /// Hole closing: leave open a hole whose fan would leave the input surface by more than
+    /// this many point spacings (0 = no test).
+    #[arg(long, default_value_t = CloseOptions::default().max_gap)]
+    close_max_gap: f32,
     #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
     backend: BackendKind,
 }
@@ -155,6 +168,11 @@ impl SamplingArgs {
                 refine_smoothing: self.complete_smoothing,
                 require_vote: !self.complete_unvoted,
                 ..CompleteOptions::default()
+            },
+            close: CloseOptions {
+                enabled: !self.no_close_holes,
+                max_edges: self.close_max_edges,
+                max_gap: self.close_max_gap,
             },
         }
     }
@@ -201,6 +219,7 @@ struct GenerateReport<'a> {
     extract: &'a meshflow::extract::ExtractReport,
     fit: &'a meshflow::surface::fit::FitReport,
     complete: &'a meshflow::surface::complete::CompleteReport,
+    close: &'a meshflow::surface::close::CloseReport,
     topology: &'a meshflow::geometry::topology::TopologyReport,
 }
 
@@ -312,6 +331,7 @@ fn report(
             extract: &g.extract,
             fit: &g.fit,
             complete: &g.complete,
+            close: &g.close,
             topology: &g.topology,
         };
         println!("{}", serde_json::to_string(&r)?);
@@ -341,6 +361,14 @@ fn report(
             "  fitted to the input points: mean vertex distance {:.4} -> {:.4} ({} moves held \
              back in the last round)",
             g.fit.mean_distance_before, g.fit.mean_distance_after, g.fit.held_back
+        );
+    }
+    let c = &g.close;
+    if c.holes_closed + c.holes_left > 0 {
+        println!(
+            "  holes closed: {} ({} faces, {} vertices added), {} left open (--no-close-holes \
+             keeps them all)",
+            c.holes_closed, c.faces_added, c.vertices_added, c.holes_left
         );
     }
     println!(

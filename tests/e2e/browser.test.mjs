@@ -475,8 +475,12 @@ await check('the npm package imports and generates the way a user would', async 
            let tooFew = '';
            try { await model.generate(points.slice(0, 30), { steps: 1 }); } catch (e) { tooFew = e.message; }
            const raw = await model.generate(points, { ...options, fit: false });
+           const open = await model.generate(points, { ...options, closeHoles: false });
+           let badClose = '';
+           try { await model.generate(points, { ...options, closeHoles: 'no' }); } catch (e) { badClose = e.message; }
            const byFaces = await model.generate(points, { steps: 2, faces: 120 });
            window.__options = { both, tooFew, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
+             holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
            window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
              nonManifold: filtered.report.topology.non_manifold_edges, refused,
@@ -534,7 +538,10 @@ await check('the npm package imports and generates the way a user would', async 
   assert(/vertices or for faces, not both/.test(o.both), `vertices with faces was not refused: ${o.both}`);
   assert(/has 10 points; at least 16/.test(o.tooFew), `10 points were not refused: ${o.tooFew}`);
   assert(o.rawFaces > 0 && o.fitS >= 0, `fit: false: ${JSON.stringify(o)}`);
-  assert(o.byFaces.budget === Math.round(120 / 1.05) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
+  // Hole closing is on by default and can be turned off; a non-boolean is a TypeError.
+  assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
+  assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
+  assert(o.byFaces.budget === Math.round(120 / 1.25) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

@@ -28,6 +28,8 @@ export interface GenerateReport {
   times: StageTimes;
   topology: TopologyReport;
   extract: Record<string, number>;
+  /** Holes closed by `closeHoles`, the faces and vertices that added, and holes left open. */
+  close: { holes_closed: number; faces_added: number; vertices_added: number; holes_left: number };
 }
 
 export interface GenerateOptions {
@@ -35,8 +37,9 @@ export interface GenerateOptions {
   vertices?: number;
   /**
    * Faces to aim for instead of a vertex count (a TypeError with `vertices`); the result
-   * lands near it (`report.topology.faces` says what came out). Outside what the model can
-   * make, the promise rejects with the range.
+   * lands near it (`report.topology.faces` says what came out; calibrated with the default
+   * `fit` and `closeHoles`, it lands lower without them). Outside what the model can make, the
+   * promise rejects with the range.
    */
   faces?: number;
   /**
@@ -44,6 +47,12 @@ export interface GenerateOptions {
    * them with faces that lie on the points. False keeps the model's own vertices and faces.
    */
   fit?: boolean;
+  /**
+   * Default true: close each hole that the surface completion left, where the input points
+   * say the surface goes on, with a patch that does not fold (a fan around one new vertex, or
+   * a triangulation of the hole's border); with `fit` only. False leaves them open.
+   */
+  closeHoles?: boolean;
   /** Euler steps, default 28. */
   steps?: number;
   seed?: number;

@@ -251,15 +251,19 @@ export class Model {
    * (`'manifold'`, the default: no edge with a third face, consistent winding; or `'paper'`:
    * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
    * per edge), `fit` (default true: vertices moved onto the points and the surface completed
-   * between them), `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels between
+   * between them), `closeHoles` (default true: each hole left where the points go on is
+   * closed by a patch that does not fold; with `fit` only), `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels between
    * steps and rejects).
    */
-  async generate(points, { vertices, faces, steps, seed, extraction, dropNonManifold, fit = true, onStep, signal } = {}) {
+  async generate(points, { vertices, faces, steps, seed, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
     if (vertices !== undefined && faces !== undefined) {
       throw new TypeError('ask for vertices or for faces, not both');
     }
     if (typeof fit !== 'boolean') {
       throw new TypeError(`fit must be true or false, got ${JSON.stringify(fit)}`);
+    }
+    if (typeof closeHoles !== 'boolean') {
+      throw new TypeError(`closeHoles must be true or false, got ${JSON.stringify(closeHoles)}`);
     }
     if (extraction !== undefined && extraction !== 'manifold' && extraction !== 'paper') {
       throw new TypeError(`extraction must be 'manifold' or 'paper', got ${JSON.stringify(extraction)}`);
@@ -275,6 +279,7 @@ export class Model {
       seed,
       extract,
       ...(fit ? {} : { fit: { iterations: 0 }, complete: { enabled: false } }),
+      ...(closeHoles ? {} : { close: { enabled: false } }),
     });
     const inner = await this.#inner.generate(points, options, (i, n) => {
       onStep?.(i, n);

@@ -374,43 +374,15 @@ impl<'a> Surface<'a> {
     /// has passed, so each loop is simple. (Around every vertex the one-face edges come in and
     /// go out equally often, so the walk always closes.)
     fn hole_loops(&self) -> Vec<Vec<u32>> {
-        // Hole edges a -> b (the face on the edge walks b -> a), from a, sorted for determinism.
-        let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
-        for (&[lo, hi], slots) in &self.on_edge {
-            if let [Some((_, forward)), None] = slots {
-                let (a, b) = if *forward { (hi, lo) } else { (lo, hi) };
-                out.entry(a).or_default().push(b);
-            }
-        }
-        let mut starts: Vec<u32> = out.keys().copied().collect();
-        starts.sort_unstable();
-        for targets in out.values_mut() {
-            // Popped from the back: smallest target first.
-            targets.sort_unstable_by(|x, y| y.cmp(x));
-        }
-        let mut loops = Vec::new();
-        for start in starts {
-            while out.get(&start).is_some_and(|t| !t.is_empty()) {
-                let mut path = vec![start];
-                let mut current = start;
-                // The walk ends at the start; running out of edges elsewhere cannot happen for
-                // a consistent boundary, and would end it safely.
-                while let Some(next) = out.get_mut(&current).and_then(Vec::pop) {
-                    if let Some(at) = path.iter().position(|&v| v == next) {
-                        let cycle: Vec<u32> = path.drain(at..).collect();
-                        if cycle.len() >= 3 {
-                            loops.push(cycle);
-                        }
-                        if path.is_empty() {
-                            break;
-                        }
-                    }
-                    path.push(next);
-                    current = next;
-                }
-            }
-        }
-        loops
+        // Hole edges a -> b: the face on the edge walks b -> a.
+        let hole_edges = self
+            .on_edge
+            .iter()
+            .filter_map(|(&[lo, hi], slots)| match slots {
+                [Some((_, forward)), None] => Some(if *forward { (hi, lo) } else { (lo, hi) }),
+                _ => None,
+            });
+        topology::directed_loops(hole_edges)
     }
 
     /// How well `face` continues the faces already on its edges: the smallest cosine between

@@ -1,6 +1,8 @@
 //! Connectivity of a triangle mesh: edges, adjacency, boundary loops, components, and the
 //! topology report that every generated mesh is judged by (docs/design.md section 3).
 
+use std::collections::HashMap;
+
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
@@ -232,6 +234,57 @@ pub fn edge_loops(edges: &[Edge]) -> Vec<Vec<u32>> {
         }
     }
     loops
+}
+
+/// Directed edges `a -> b` chained into simple loops, each listing its vertices once in
+/// walking order. Where several loops meet at a vertex, the walk is cut wherever it comes back
+/// to a vertex it has passed. Made for the boundary of a consistently wound surface, where
+/// every vertex has as many edges in as out, so every walk closes; an edge left over elsewhere
+/// ends its walk without a loop. Deterministic: starts and turns take the smallest vertex.
+pub fn directed_loops(edges: impl IntoIterator<Item = (u32, u32)>) -> Vec<Vec<u32>> {
+    let mut out: HashMap<u32, Vec<u32>> = HashMap::new();
+    for (a, b) in edges {
+        out.entry(a).or_default().push(b);
+    }
+    let mut starts: Vec<u32> = out.keys().copied().collect();
+    starts.sort_unstable();
+    for targets in out.values_mut() {
+        // Popped from the back: smallest target first.
+        targets.sort_unstable_by(|x, y| y.cmp(x));
+    }
+    let mut loops = Vec::new();
+    for start in starts {
+        while out.get(&start).is_some_and(|t| !t.is_empty()) {
+            let mut path = vec![start];
+            let mut current = start;
+            while let Some(next) = out.get_mut(&current).and_then(Vec::pop) {
+                if let Some(at) = path.iter().position(|&v| v == next) {
+                    let cycle: Vec<u32> = path.drain(at..).collect();
+                    if cycle.len() >= 3 {
+                        loops.push(cycle);
+                    }
+                    if path.is_empty() {
+                        break;
+                    }
+                }
+                path.push(next);
+                current = next;
+            }
+        }
+    }
+    loops
+}
+
+/// The holes of a consistently wound mesh as directed loops: each edge with one face, walked
+/// against that face ([`directed_loops`]), so a face `(a, b, hub)` for each loop step
+/// `a -> b` winds like its neighbour. Edges with two or more faces are not holes.
+pub fn hole_loops(faces: &[[u32; 3]]) -> Vec<Vec<u32>> {
+    let inc = EdgeIncidence::new(faces);
+    let hole_edges = inc.iter().filter_map(|([lo, hi], uses)| match uses {
+        [one] => Some(if one.forward { (hi, lo) } else { (lo, hi) }),
+        _ => None,
+    });
+    directed_loops(hole_edges)
 }
 
 /// Boundary loops (holes) of a triangle mesh: the loops formed by edges used by exactly one face.

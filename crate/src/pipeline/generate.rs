@@ -11,8 +11,11 @@
 //!    extraction by default, Algorithm 1 on request). For Algorithm 1 on a wgpu device the
 //!    spacetime threshold runs there (`threshold_gpu`) and only the edge bits are read back;
 //!    otherwise the embeddings are read back and thresholded on the host.
-//! 5. **Fit**: the vertices are moved onto the input points' surface ([`crate::surface::fit`]), then
-//!    the mesh goes back to the input's frame.
+//! 5. **Fit**: the vertices are moved onto the input points' surface ([`crate::surface::fit`]);
+//!    with the manifold extraction the surface is completed between them
+//!    ([`crate::surface::complete`], fitted and completed again twice) and the holes left where
+//!    the input goes on are closed ([`crate::surface::close`], which may add vertices beyond
+//!    the budget); then the mesh goes back to the input's frame.
 
 use burn::tensor::{Device, Int, Tensor, TensorData};
 use glam::Vec3;
@@ -34,6 +37,7 @@ use crate::model::schedule::ScheduleMode;
 use crate::model::{MeshVae, Trace, VaeConfig};
 use crate::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::rng::Rng;
+use crate::surface::close::{CloseOptions, CloseReport, close_holes};
 use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
 use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
 
@@ -45,9 +49,10 @@ pub const CONDITION_POINTS: usize = 4096;
 pub const MIN_POINTS: usize = 16;
 
 /// Faces the full pipeline makes per budgeted vertex, asked for the ground truth's face count
-/// (median over the validation split, 1.04; `meshflow eval generate --split val --budget
-/// ground-truth-faces`): how a face count asked for becomes a vertex budget.
-pub const FACES_PER_VERTEX: f32 = 1.05;
+/// (median over the validation split, 1.25 since holes are closed; `meshflow eval generate
+/// --split val --budget ground-truth-faces`): how a face count asked for becomes a vertex
+/// budget.
+pub const FACES_PER_VERTEX: f32 = 1.25;
 
 /// Fewest vertices a face count may ask for.
 pub const MIN_BUDGET: usize = 8;
@@ -108,6 +113,9 @@ pub struct GenerateOptions {
     /// Completing the manifold extraction's faces with triangles on the input surface
     /// (ignored with Algorithm 1).
     pub complete: CompleteOptions,
+    /// Closing the holes left after completion where the input goes on
+    /// ([`crate::surface::close`]; with completion only, so never with Algorithm 1).
+    pub close: CloseOptions,
 }
 
 impl Default for GenerateOptions {
@@ -121,6 +129,7 @@ impl Default for GenerateOptions {
             extract: ExtractOptions::default(),
             fit: FitOptions::default(),
             complete: CompleteOptions::default(),
+            close: CloseOptions::default(),
         }
     }
 }
@@ -133,7 +142,7 @@ pub struct StageTimes {
     pub sample_s: f64,
     pub decode_s: f64,
     pub extract_s: f64,
-    /// Fitting to the input points and completing the surface.
+    /// Fitting to the input points, completing the surface and closing its holes.
     pub fit_s: f64,
 }
 
@@ -146,6 +155,7 @@ pub struct Generated {
     pub extract: ExtractReport,
     pub fit: FitReport,
     pub complete: CompleteReport,
+    pub close: CloseReport,
     pub topology: TopologyReport,
     /// Stage times of the whole batch this mesh was generated in.
     pub times: StageTimes,
@@ -529,12 +539,16 @@ impl Generator<'_> {
                         &opts.extract.manifold_options(),
                     );
                 }
-                if opts.extract.compact {
-                    mesh.remove_unreferenced_vertices();
-                }
+            }
+            let mut close = CloseReport::default();
+            if completing {
+                close = close_holes(&mut mesh, &c.model_points, &opts.close);
+            }
+            if completing && opts.extract.compact {
+                mesh.remove_unreferenced_vertices();
             }
             fit_s += fitting.elapsed().as_secs_f64();
-            meshes.push((c.to_input.apply_mesh(&mesh), report, fit, complete));
+            meshes.push((c.to_input.apply_mesh(&mesh), report, fit, complete, close));
         }
         let mut times = prepared.times;
         times.fit_s = fit_s;
@@ -542,7 +556,7 @@ impl Generator<'_> {
         Ok(meshes
             .into_iter()
             .zip(prepared.conditioned)
-            .map(|((mesh, extract, fit, complete), c)| Generated {
+            .map(|((mesh, extract, fit, complete, close), c)| Generated {
                 topology: TopologyReport::of(&mesh),
                 mesh,
                 vertex_budget: c.budget,
@@ -550,6 +564,7 @@ impl Generator<'_> {
                 extract,
                 fit,
                 complete,
+                close,
                 times: times.clone(),
             })
             .collect())

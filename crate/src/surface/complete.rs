@@ -149,7 +149,7 @@ pub struct CompleteReport {
     pub model_faces_dropped: usize,
 }
 
-type Indexed = GeomWithData<[f32; 3], u32>;
+pub(crate) type Indexed = GeomWithData<[f32; 3], u32>;
 
 /// The faces of a surface through `positions` (see the module documentation): `faces` (the
 /// model's, manifold and consistently wound) completed by triangles that lie on the surface
@@ -369,7 +369,7 @@ fn circumcircle(a: Vec2, b: Vec2, c: Vec2) -> Option<(Vec2, f32)> {
 
 /// Median distance from an input point to its nearest other point (over at most 1,024 of
 /// them, evenly spread in index order).
-fn point_spacing(tree: &RTree<Indexed>) -> f32 {
+pub(crate) fn point_spacing(tree: &RTree<Indexed>) -> f32 {
     let all: Vec<&Indexed> = tree.iter().collect();
     let stride = all.len().div_ceil(1024).max(1);
     let mut d: Vec<f32> = all
@@ -418,7 +418,7 @@ fn usable(corners: [Vec3; 3], max_edge: f32, min_sin: f32) -> Option<f32> {
 /// Whether every probe of the triangle is within `max_gap` of a point: the centroid, the
 /// edge midpoints, then a barycentric grid fine enough that no part of the triangle is more
 /// than about `max_gap` from a probe (at most 16 steps an edge).
-fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool {
+pub(crate) fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool {
     let [a, b, c] = corners;
     let max2 = max_gap * max_gap;
     // Any point within the gap will do: a search bounded by the gap stops at the first one and

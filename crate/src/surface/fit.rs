@@ -83,6 +83,18 @@ pub struct FitReport {
 
 type Indexed = GeomWithData<[f32; 3], u32>;
 
+/// An R-tree over the finite ones of `points`, each carrying its index.
+pub(crate) fn finite_point_tree(points: &[Vec3]) -> RTree<Indexed> {
+    RTree::bulk_load(
+        points
+            .iter()
+            .enumerate()
+            .filter(|(_, p)| p.is_finite())
+            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
+            .collect(),
+    )
+}
+
 /// Moves the vertices of `positions` (faces or not) onto the surface sampled by `points`
 /// (see the module documentation). Non-finite points are ignored; with no finite point, no
 /// face or no iteration nothing moves.
@@ -99,14 +111,7 @@ pub fn fit_to_points(
             ..FitReport::default()
         };
     }
-    let tree = RTree::bulk_load(
-        points
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.is_finite())
-            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
-            .collect::<Vec<Indexed>>(),
-    );
+    let tree = finite_point_tree(points);
     let mut report = FitReport {
         vertices,
         ..FitReport::default()

@@ -307,7 +307,8 @@ impl GeneratedMesh {
             .collect()
     }
 
-    /// JSON: `vertexBudget`, `times` (seconds per stage), `topology`, `extract`.
+    /// JSON: `vertexBudget`, `times` (seconds per stage), `topology`, `extract`, `close` (the
+    /// holes closed and left open).
     #[wasm_bindgen(getter)]
     pub fn report(&self) -> String {
         let g = &self.generated;
@@ -317,6 +318,7 @@ impl GeneratedMesh {
             "times": g.times,
             "topology": g.topology,
             "extract": g.extract,
+            "close": g.close,
         })
         .to_string()
     }

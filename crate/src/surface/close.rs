@@ -1,0 +1,445 @@
+//! Closing the holes that extraction and completion leave open, where the input points say
+//! there is surface.
+//!
+//! Completion fills the holes it can with triangles between existing vertices, and refuses
+//! any that would fold, overlap or break the manifold. What it leaves is mostly small loops
+//! pinched between pieces, and the open rim of a thin part, where the model put one sheet of
+//! vertices inside the slab: no triangle between those vertices closes it without lying on
+//! the sheet. [`close_holes`] closes each remaining boundary loop with a fan around one new
+//! vertex, or between its own vertices:
+//!
+//! 1. **Loops.** The edges with one face, walked against that face and cut into simple loops
+//!    where holes meet at a vertex ([`crate::geometry::topology::hole_loops`]).
+//! 2. **Fan, or a triangulation.** A loop `v0 -> v1 -> ... -> v(k-1)` of four or more gets a vertex `c`
+//!    and the faces `(v(i), v(i+1), c)`: `c` is the centroid of the loop's vertices projected
+//!    onto the input surface there (the plane of its 8 nearest input points). When a fan face
+//!    would face against the rest of the fan (a loop that is not star-shaped around `c`), the
+//!    loop is triangulated between its own vertices instead: the least-area triangulation
+//!    whose faces all face the way of the loop's Newell normal and add no diagonal that is an
+//!    edge already (dynamic programming, loops of at most [`MAX_TRIANGULATED`] edges).
+//!    A loop of three gets its one face, unless that face exists already (the
+//!    border of a lone triangle). Every new face walks its loop edge opposite to the face
+//!    already there, and each spoke or diagonal gets two new faces walking it both ways, so
+//!    **every edge keeps at most two faces and the winding stays consistent**: the manifold
+//!    extraction's edge guarantees hold (`crate/tests/extract_props.rs`). Its fold and overlap
+//!    tests against the faces around the hole are not applied: a patch may lie over a
+//!    neighbouring face, which is how a thin part's rim gets closed (below). A new vertex's
+//!    normal is the mean of its fan's.
+//! 3. **Refusals.** A loop stays open when it is longer than `max_edges`, when it is the border
+//!    of a lone triangle, or when neither a fan nor a triangulation closes it with faces that
+//!    have area, face the patch's way and lie on the input surface (the completion's test:
+//!    every probe of a face within `max_gap` point spacings of an input point):
+//!    a hole the input has too, such as the open rim of a lampshade, is not capped across air.
+//!
+//! On a thin part the fan lies over the sheet whose rim it closes: the part becomes a closed
+//! shell of almost no thickness rather than an open sheet. A flat open sheet whose input is one
+//! flat sheet too gets the same back face, as its cap lies on the input; a curved open shell
+//! (a tube, a bowl) keeps its rim open, as its cap would span air. Cost: a few nearest-point
+//! queries per loop, and the O(k^3) triangulation for the loops a fan cannot close; a few
+//! milliseconds at 512 vertices.
+
+use std::collections::HashSet;
+
+use glam::{DVec3, Vec3};
+use rstar::RTree;
+use serde::{Deserialize, Serialize};
+
+use crate::Mesh;
+use crate::geometry::topology::{DEGENERATE_TOLERANCE, Edge, face_edges, hole_loops, sorted_face};
+use crate::surface::complete::{Indexed, on_surface, point_spacing};
+use crate::surface::fit::{finite_point_tree, least_spread_direction};
+
+/// Longest loop closed between its own vertices when a fan cannot close it: the least-area
+/// triangulation is O(k^3), about a million steps here.
+const MAX_TRIANGULATED: usize = 100;
+
+/// Options of [`close_holes`] (missing JSON fields take the defaults).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct CloseOptions {
+    /// Close holes at all.
+    pub enabled: bool,
+    /// Leave open the loops of more than this many edges (0: no limit).
+    pub max_edges: usize,
+    /// Leave open a loop whose fan would leave the input surface by more than this many input
+    /// point spacings (0 or less: no surface test). 10, from the validation split: 6 leaves 2.6 holes
+    /// a mesh, 10 leaves 1.3 at the same Chamfer distance, 16 leaves 0.9 at a higher one.
+    pub max_gap: f32,
+}
+
+impl Default for CloseOptions {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            max_edges: 0,
+            max_gap: 10.0,
+        }
+    }
+}
+
+/// What [`close_holes`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct CloseReport {
+    /// Boundary loops closed, and the faces and vertices that added.
+    pub holes_closed: usize,
+    pub faces_added: usize,
+    pub vertices_added: usize,
+    /// Boundary loops left open (too long, collinear, off the input surface, or the border of
+    /// a lone triangle).
+    pub holes_left: usize,
+}
+
+/// Closes the boundary loops of `mesh` where the surface sampled by `points` goes on (see the
+/// module documentation). `mesh` should be manifold and consistently wound (what the manifold
+/// extraction gives); edges with more than two faces are left as they are. New vertices are
+/// appended, with normals when the mesh has them. Non-finite points are ignored; with fewer
+/// than two finite points there is no surface test, and with fewer than three no projection.
+pub fn close_holes(mesh: &mut Mesh, points: &[Vec3], opts: &CloseOptions) -> CloseReport {
+    let mut report = CloseReport::default();
+    if !opts.enabled {
+        return report;
+    }
+    let tree = finite_point_tree(points);
+    let max_gap = opts.max_gap * point_spacing(&tree);
+    let on_input = |corners: [Vec3; 3]| {
+        tree.size() < 2 || opts.max_gap <= 0.0 || on_surface(corners, &tree, max_gap)
+    };
+    let existing: HashSet<[u32; 3]> = mesh.faces.iter().map(|&f| sorted_face(f)).collect();
+    let mut edges: HashSet<Edge> = mesh.faces.iter().flat_map(|&f| face_edges(f)).collect();
+    // The topology report's own test for a face without area, so no new face counts as one.
+    let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
+    // A new face must have area, face the way of the rest of the patch, and lie on the input.
+    let acceptable = |c: [Vec3; 3], along: Vec3| {
+        let n = (c[1] - c[0]).cross(c[2] - c[0]);
+        n.length() > DEGENERATE_TOLERANCE * scale * scale && n.dot(along) > 0.0 && on_input(c)
+    };
+    for hole in hole_loops(&mesh.faces) {
+        let k = hole.len();
+        let too_long = opts.max_edges > 0 && k > opts.max_edges;
+        let lone_triangle = k == 3 && existing.contains(&sorted_face([hole[0], hole[1], hole[2]]));
+        if too_long || lone_triangle {
+            report.holes_left += 1;
+            continue;
+        }
+        let at = |v: u32| mesh.positions[v as usize];
+        if k > 3 {
+            let centre = hole.iter().map(|&v| at(v)).sum::<Vec3>() / k as f32;
+            let hub = project_onto_points(centre, &tree);
+            let fan: Vec<[Vec3; 3]> = (0..k)
+                .map(|i| [at(hole[i]), at(hole[(i + 1) % k]), hub])
+                .collect();
+            let mean: Vec3 = fan
+                .iter()
+                .map(|c| (c[1] - c[0]).cross(c[2] - c[0]).normalize_or_zero())
+                .sum();
+            if fan.iter().all(|&c| acceptable(c, mean)) {
+                let h = mesh.positions.len() as u32;
+                mesh.positions.push(hub);
+                if !mesh.normals.is_empty() {
+                    mesh.normals.push(mean.try_normalize().unwrap_or(Vec3::Z));
+                }
+                mesh.faces
+                    .extend((0..k).map(|i| [hole[i], hole[(i + 1) % k], h]));
+                report.holes_closed += 1;
+                report.faces_added += k;
+                report.vertices_added += 1;
+                continue;
+            }
+        }
+        let min_area2 = DEGENERATE_TOLERANCE * scale * scale;
+        match triangulate(&hole, &mesh.positions, &edges, min_area2, &acceptable) {
+            Some(faces) => {
+                edges.extend(faces.iter().flat_map(|&f| face_edges(f)));
+                report.holes_closed += 1;
+                report.faces_added += faces.len();
+                mesh.faces.extend(faces);
+            }
+            None => report.holes_left += 1,
+        }
+    }
+    report
+}
+
+/// The loop `hole` triangulated between its own vertices: of the triangulations whose every
+/// face has area, faces the way of the loop's Newell normal and adds no diagonal that is an
+/// edge already, the one of least area (dynamic programming over the loop's sub-chains, as in
+/// Barequet and Sharir's and Liepa's hole filling), if its faces also pass `acceptable`
+/// (given the normal). The faces keep the loop's direction, as the fan's do. `None` when there
+/// is no such triangulation, or the loop is longer than [`MAX_TRIANGULATED`].
+fn triangulate(
+    hole: &[u32],
+    positions: &[Vec3],
+    edges: &HashSet<Edge>,
+    min_area2: f32,
+    acceptable: &impl Fn([Vec3; 3], Vec3) -> bool,
+) -> Option<Vec<[u32; 3]>> {
+    let k = hole.len();
+    if k > MAX_TRIANGULATED {
+        return None;
+    }
+    let at = |i: usize| positions[hole[i] as usize];
+    let normal = (0..k)
+        .map(|i| at(i).cross(at((i + 1) % k)))
+        .sum::<Vec3>()
+        .try_normalize()?;
+    // A chord (i, j) of the loop may be a face's side unless it is a mesh edge already (the
+    // loop's own edges, j = i + 1 and (0, k - 1), are the sides every face must reach).
+    let free = |i: usize, j: usize| {
+        j == i + 1 || (i == 0 && j == k - 1) || {
+            let (a, b) = (hole[i], hole[j]);
+            !edges.contains(&if a < b { [a, b] } else { [b, a] })
+        }
+    };
+    // area[i][j]: the least area of a triangulation of the chain i..=j closed by the chord
+    // (i, j), with the middle vertex chosen for it; infinite where there is none.
+    let mut area = vec![vec![f32::INFINITY; k]; k];
+    let mut middle = vec![vec![usize::MAX; k]; k];
+    for i in 0..k - 1 {
+        area[i][i + 1] = 0.0;
+    }
+    for span in 2..k {
+        for i in 0..k - span {
+            let j = i + span;
+            if !free(i, j) {
+                continue;
+            }
+            for m in i + 1..j {
+                let n = (at(m) - at(i)).cross(at(j) - at(i));
+                let (a, b) = (area[i][m], area[m][j]);
+                if !(a.is_finite() && b.is_finite())
+                    || n.length() <= min_area2
+                    || n.dot(normal) <= 0.0
+                {
+                    continue;
+                }
+                let total = a + b + n.length();
+                if total < area[i][j] {
+                    area[i][j] = total;
+                    middle[i][j] = m;
+                }
+            }
+        }
+    }
+    if !area[0][k - 1].is_finite() {
+        return None;
+    }
+    let mut faces = Vec::with_capacity(k - 2);
+    let mut chains = vec![(0, k - 1)];
+    while let Some((i, j)) = chains.pop() {
+        if j <= i + 1 {
+            continue;
+        }
+        let m = middle[i][j];
+        faces.push([hole[i], hole[m], hole[j]]);
+        chains.extend([(i, m), (m, j)]);
+    }
+    faces
+        .iter()
+        .all(|f| acceptable(f.map(|v| positions[v as usize]), normal))
+        .then_some(faces)
+}
+
+/// `p` projected onto the plane of its 8 nearest points (their centroid, the direction of
+/// least spread); `p` itself where they do not define a plane.
+fn project_onto_points(p: Vec3, tree: &RTree<Indexed>) -> Vec3 {
+    let near: Vec<DVec3> = tree
+        .nearest_neighbor_iter(p.to_array())
+        .take(8)
+        .map(|q| Vec3::from_array(*q.geom()).as_dvec3())
+        .collect();
+    let Some(normal) = least_spread_direction(&near) else {
+        return p;
+    };
+    let centroid = near.iter().sum::<DVec3>() / near.len() as f64;
+    let p = p.as_dvec3();
+    (p - normal * (p - centroid).dot(normal)).as_vec3()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::extract::manifold::unit_normal;
+    use crate::geometry::primitives::{cube, icosphere};
+    use crate::geometry::topology::TopologyReport;
+
+    fn without_faces(mut mesh: Mesh, remove: &[usize]) -> Mesh {
+        let mut k = 0;
+        mesh.faces.retain(|_| {
+            k += 1;
+            !remove.contains(&(k - 1))
+        });
+        mesh
+    }
+
+    /// The cube [-1, 1]^3 without its two top triangles: one square hole.
+    fn open_box() -> Mesh {
+        let cube = cube();
+        let top: Vec<usize> = (0..cube.faces.len())
+            .filter(|&f| {
+                cube.faces[f]
+                    .iter()
+                    .all(|&v| cube.positions[v as usize].y > 0.0)
+            })
+            .collect();
+        assert_eq!(top.len(), 2);
+        without_faces(cube, &top)
+    }
+
+    #[test]
+    fn holes_in_a_closed_surface_close_cleanly() {
+        // Two separate holes (a single missing face, and two adjacent ones making a quad).
+        let mut sphere = icosphere(2);
+        sphere.normals = sphere.positions.iter().map(|p| p.normalize()).collect();
+        let holed = without_faces(sphere.clone(), &[0, 40, 41]);
+        let before = TopologyReport::of(&holed);
+        assert!(before.holes >= 2, "{before:?}");
+        let mut closed = holed.clone();
+        let report = close_holes(&mut closed, &[], &CloseOptions::default());
+        let after = TopologyReport::of(&closed);
+        assert!(after.is_clean_closed(), "{after:?}");
+        assert_eq!(report.holes_closed, before.holes);
+        assert_eq!(report.holes_left, 0);
+        assert_eq!(
+            closed.positions.len(),
+            holed.positions.len() + report.vertices_added
+        );
+        assert_eq!(closed.normals.len(), closed.positions.len());
+        // New vertices lie inside the hole (near the sphere), not far off.
+        for p in &closed.positions[holed.positions.len()..] {
+            assert!((p.length() - 1.0).abs() < 0.1, "{p}");
+        }
+    }
+
+    #[test]
+    fn an_open_box_gets_a_lid_wound_like_its_walls() {
+        // A cube without its two top triangles: one square hole, closed by a 4-face fan.
+        let mut open = open_box();
+        let report = close_holes(&mut open, &[], &CloseOptions::default());
+        assert_eq!(
+            (
+                report.holes_closed,
+                report.faces_added,
+                report.vertices_added
+            ),
+            (1, 4, 1)
+        );
+        let after = TopologyReport::of(&open);
+        assert!(after.is_clean_closed(), "{after:?}");
+        // The lid faces up, as the removed top did.
+        for &f in &open.faces[open.faces.len() - 4..] {
+            assert!(unit_normal(&open.positions, f).y > 0.99);
+        }
+    }
+
+    #[test]
+    fn long_loops_lone_triangles_and_disabled_options_stay_open() {
+        let cube = cube();
+        let mut open = without_faces(cube.clone(), &[0, 1]);
+        let long_only = CloseOptions {
+            max_edges: 3,
+            ..CloseOptions::default()
+        };
+        let report = close_holes(&mut open, &[], &long_only);
+        assert_eq!((report.holes_closed, report.holes_left), (0, 1));
+        let off = CloseOptions {
+            enabled: false,
+            ..CloseOptions::default()
+        };
+        assert_eq!(close_holes(&mut open, &[], &off), CloseReport::default());
+        // A lone triangle's border is a loop of three, and doubling it would close nothing.
+        let mut lone = Mesh {
+            positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
+            normals: vec![],
+            faces: vec![[0, 1, 2]],
+        };
+        let report = close_holes(&mut lone, &[], &CloseOptions::default());
+        assert_eq!((report.holes_closed, report.holes_left), (0, 1));
+        assert_eq!(lone.faces.len(), 1);
+    }
+
+    /// Points on the faces of the cube [-1, 1]^3 whose outward axis passes `keep`.
+    fn cube_points(keep: impl Fn(Vec3) -> bool) -> Vec<Vec3> {
+        let mut points = Vec::new();
+        for axis in [Vec3::X, Vec3::Y, Vec3::Z, -Vec3::X, -Vec3::Y, -Vec3::Z] {
+            if !keep(axis) {
+                continue;
+            }
+            let (u, v) = axis.any_orthonormal_pair();
+            for i in 0..=40 {
+                for j in 0..=40 {
+                    let (a, b) = (i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0);
+                    points.push(axis + u * a + v * b);
+                }
+            }
+        }
+        points
+    }
+
+    #[test]
+    fn a_hole_is_capped_only_where_the_input_has_surface() {
+        let open = open_box();
+        // The input is an open box too: the lid would span air, so the hole stays.
+        let mut kept = open.clone();
+        let report = close_holes(
+            &mut kept,
+            &cube_points(|a| a != Vec3::Y),
+            &CloseOptions::default(),
+        );
+        assert_eq!((report.holes_closed, report.holes_left), (0, 1));
+        assert_eq!(kept, open);
+        // The input is closed: the lid goes on, its new vertex on the top face's plane.
+        let mut closed = open.clone();
+        let report = close_holes(
+            &mut closed,
+            &cube_points(|_| true),
+            &CloseOptions::default(),
+        );
+        assert_eq!((report.holes_closed, report.vertices_added), (1, 1));
+        assert!((closed.positions.last().unwrap().y - 1.0).abs() < 1e-5);
+        assert!(TopologyReport::of(&closed).is_clean_closed());
+    }
+
+    #[test]
+    fn a_hole_no_fan_can_close_is_triangulated_between_its_own_vertices() {
+        // A U-shaped hole in a flat 7 x 6 grid: its centre lies on the faces between the U's
+        // arms, so a fan from there would fold over them.
+        let mut sheet = crate::geometry::primitives::grid(7, 6);
+        let quad = |f: &[u32; 3], m: &Mesh| {
+            let c = f.iter().map(|&v| m.positions[v as usize]).sum::<Vec3>() / 3.0;
+            ((c.x * 7.0) as i32, (c.y * 6.0) as i32)
+        };
+        let before = sheet.clone();
+        sheet.faces.retain(|f| {
+            let (x, y) = quad(f, &before);
+            !((y == 1 && (1..=5).contains(&x)) || ((x == 1 || x == 5) && (1..=4).contains(&y)))
+        });
+        // Input points over the U's box only: the grid's outer border (whose cap would lie on
+        // the sheet's back) stays open, as its cap would span the unsampled margin.
+        let points: Vec<Vec3> = (0..=60)
+            .flat_map(|i| (0..=60).map(move |j| Vec3::new(i as f32 / 60.0, j as f32 / 60.0, 0.0)))
+            .filter(|p| {
+                (1.0 / 7.0..=6.0 / 7.0).contains(&p.x) && (1.0 / 6.0..=5.0 / 6.0).contains(&p.y)
+            })
+            .collect();
+        let mut closed = sheet.clone();
+        let report = close_holes(&mut closed, &points, &CloseOptions::default());
+        assert_eq!(
+            (
+                report.holes_closed,
+                report.vertices_added,
+                report.holes_left
+            ),
+            (1, 0, 1),
+            "{report:?}"
+        );
+        assert_eq!(closed.faces.len(), before.faces.len());
+        for &f in &closed.faces {
+            assert!(unit_normal(&closed.positions, f).z > 0.99, "{f:?}");
+        }
+        let t = TopologyReport::of(&closed);
+        assert_eq!(
+            (t.holes, t.non_manifold_edges, t.inconsistent_winding_edges),
+            (1, 0, 0)
+        );
+    }
+}
