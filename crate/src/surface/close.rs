@@ -40,14 +40,13 @@
 
 use std::collections::HashSet;
 
-use glam::{DVec3, Vec3};
-use rstar::RTree;
+use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::geometry::topology::{DEGENERATE_TOLERANCE, Edge, face_edges, hole_loops, sorted_face};
-use crate::surface::complete::{Indexed, on_surface, point_spacing};
-use crate::surface::fit::{finite_point_tree, least_spread_direction};
+use crate::surface::complete::{on_surface, point_spacing};
+use crate::surface::fit::{finite_point_tree, project};
 
 /// Longest loop closed between its own vertices when a fan cannot close it: the least-area
 /// triangulation is O(k^3), about a million steps here.
@@ -124,7 +123,7 @@ pub fn close_holes(mesh: &mut Mesh, points: &[Vec3], opts: &CloseOptions) -> Clo
         let at = |v: u32| mesh.positions[v as usize];
         if k > 3 {
             let centre = hole.iter().map(|&v| at(v)).sum::<Vec3>() / k as f32;
-            let hub = project_onto_points(centre, &tree);
+            let hub = project(centre, &tree, 8);
             let fan: Vec<[Vec3; 3]> = (0..k)
                 .map(|i| [at(hole[i]), at(hole[(i + 1) % k]), hub])
                 .collect();
@@ -237,22 +236,6 @@ fn triangulate(
         .iter()
         .all(|f| acceptable(f.map(|v| positions[v as usize]), normal))
         .then_some(faces)
-}
-
-/// `p` projected onto the plane of its 8 nearest points (their centroid, the direction of
-/// least spread); `p` itself where they do not define a plane.
-fn project_onto_points(p: Vec3, tree: &RTree<Indexed>) -> Vec3 {
-    let near: Vec<DVec3> = tree
-        .nearest_neighbor_iter(p.to_array())
-        .take(8)
-        .map(|q| Vec3::from_array(*q.geom()).as_dvec3())
-        .collect();
-    let Some(normal) = least_spread_direction(&near) else {
-        return p;
-    };
-    let centroid = near.iter().sum::<DVec3>() / near.len() as f64;
-    let p = p.as_dvec3();
-    (p - normal * (p - centroid).dot(normal)).as_vec3()
 }
 
 #[cfg(test)]

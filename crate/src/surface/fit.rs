@@ -155,8 +155,9 @@ pub fn fit_to_points(
     report
 }
 
-/// `p` projected onto the plane of its `k` nearest points in `tree`.
-fn project(p: Vec3, tree: &RTree<Indexed>, k: usize) -> Vec3 {
+/// `p` projected onto the plane of its `k` nearest points in `tree` (their centroid, the
+/// direction of least spread); `p` itself where they do not define a plane.
+pub(crate) fn project(p: Vec3, tree: &RTree<Indexed>, k: usize) -> Vec3 {
     let near: Vec<DVec3> = tree
         .nearest_neighbor_iter(p.to_array())
         .take(k)
