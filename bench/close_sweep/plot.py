@@ -1,12 +1,14 @@
 """Hole closing on the validation split: Chamfer distance against holes per mesh, one point per
-arm (bench/close_sweep/arms.csv, from each arm's `meshflow eval generate --split val FLAGS -o
-FILE`; the `build` column says which build of stop 26 ran it, empty for the shipped one).
-Arms are lettered in the CSV's order; the legend names them.
+arm (from each arm's `meshflow eval generate --split val FLAGS -o FILE`; the `build` column says
+which experimental build ran it, empty for the shipped code). Arms are lettered in the CSV's
+order; the legend names them.
 
-    python3 bench/close_sweep/plot.py   # -> bench/close_sweep/arms.png
+    python3 bench/close_sweep/plot.py             # arms.csv (stop 26)   -> arms.png
+    python3 bench/close_sweep/plot.py stop27.csv  # stop 27's attempts   -> stop27.png
 """
 import csv
 import pathlib
+import sys
 
 import matplotlib
 
@@ -14,20 +16,23 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = pathlib.Path(__file__).parent
-rows = list(csv.DictReader(open(HERE / "arms.csv")))
+name = sys.argv[1] if len(sys.argv) > 1 else "arms.csv"
+rows = list(csv.DictReader(open(HERE / name)))
 fig, ax = plt.subplots(figsize=(11, 5))
 for i, r in enumerate(rows):
     letter = chr(ord("A") + i)
     x, y = float(r["holes"]), float(r["chamfer_x100"])
     folds = "any fold" in r["arm"] or "deg" in r["arm"]
-    ax.scatter(x, y, s=60 if "default" in r["arm"] else 30,
-               marker="*" if "default" in r["arm"] else ("x" if folds else "o"),
+    shipped = "default" in r["arm"] or "shipped" in r["arm"]
+    ax.scatter(x, y, s=60 if shipped else 30,
+               marker="*" if shipped else ("x" if folds else "o"),
                label=f"{letter}: {r['arm']}")
     ax.annotate(letter, (x, y), textcoords="offset points", xytext=(4, 4), fontsize=8)
 ax.axvline(1.5, color="grey", ls="--", lw=0.8)
 ax.set_xlabel("holes per mesh (validation split, 226 meshes; dashed: issue 15's target)")
 ax.set_ylabel("Chamfer distance x100")
-ax.set_title("Closing the holes completion leaves (x: arms that accept folded faces)")
+ax.set_title("Closing the holes completion leaves (x: arms that accept folded faces)"
+             if name == "arms.csv" else "Fewer holes without folded faces: what each way costs")
 ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
 fig.tight_layout()
-fig.savefig(HERE / "arms.png", dpi=110)
+fig.savefig(HERE / pathlib.Path(name).with_suffix(".png").name, dpi=110, bbox_inches="tight")
