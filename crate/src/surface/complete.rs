@@ -64,7 +64,7 @@ use crate::extract::orient_face;
 use crate::geometry::clean::weld;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::topology::sorted_face;
-use crate::surface::fit::least_spread_direction;
+use crate::surface::fit::{Indexed, finite_point_tree, least_spread_direction};
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -149,8 +149,6 @@ pub struct CompleteReport {
     pub model_faces_dropped: usize,
 }
 
-pub(crate) type Indexed = GeomWithData<[f32; 3], u32>;
-
 /// The faces of a surface through `positions` (see the module documentation): `faces` (the
 /// model's, manifold and consistently wound) completed by triangles that lie on the surface
 /// sampled by `points`. `normals` are per vertex (winding preference), `manifold` the options
@@ -163,16 +161,13 @@ pub fn complete_surface(
     manifold: &ManifoldOptions,
 ) -> (Mesh, CompleteReport) {
     let mut report = CompleteReport::default();
-    let points: Vec<Indexed> = points
-        .iter()
-        .enumerate()
-        .filter(|(_, p)| p.is_finite())
-        .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
-        .collect();
-    if !opts.enabled || points.len() < 2 || mesh.positions.len() < 3 {
+    if !opts.enabled || mesh.positions.len() < 3 {
         return (mesh.clone(), report);
     }
-    let point_tree = RTree::bulk_load(points);
+    let point_tree = finite_point_tree(points);
+    if point_tree.size() < 2 {
+        return (mesh.clone(), report);
+    }
     let spacing = point_spacing(&point_tree);
     let edge_scale = median_edge(&mesh.positions, &mesh.faces).unwrap_or(spacing * 4.0);
     let (mut welded, merged) = weld(mesh, opts.weld_ratio * edge_scale);

@@ -81,7 +81,8 @@ pub struct FitReport {
     pub mean_distance_after: f32,
 }
 
-type Indexed = GeomWithData<[f32; 3], u32>;
+/// A point of an R-tree with its index in the list it came from.
+pub(crate) type Indexed = GeomWithData<[f32; 3], u32>;
 
 /// An R-tree over the finite ones of `points`, each carrying its index.
 pub(crate) fn finite_point_tree(points: &[Vec3]) -> RTree<Indexed> {
