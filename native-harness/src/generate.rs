@@ -366,9 +366,9 @@ fn report(
     let c = &g.close;
     if c.holes_closed + c.holes_left > 0 {
         println!(
-            "  holes closed: {} ({} faces, {} vertices added), {} left open (--no-close-holes \
-             keeps them all)",
-            c.holes_closed, c.faces_added, c.vertices_added, c.holes_left
+            "  holes closed: {} ({} faces, {} vertices added; --no-close-holes keeps them \
+             open)",
+            c.holes_closed, c.faces_added, c.vertices_added
         );
     }
     println!(

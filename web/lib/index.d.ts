@@ -28,7 +28,7 @@ export interface GenerateReport {
   times: StageTimes;
   topology: TopologyReport;
   extract: Record<string, number>;
-  /** Holes closed by `closeHoles`, the faces and vertices that added, and holes left open. */
+  /** Holes closed by `closeHoles`, the faces and vertices that added, and holes left open as its walk counts them (`topology.holes` is the figure to report). */
   close: { holes_closed: number; faces_added: number; vertices_added: number; holes_left: number };
 }
 

@@ -84,7 +84,10 @@ pub struct CloseReport {
     pub faces_added: usize,
     pub vertices_added: usize,
     /// Boundary loops left open (too long, collinear, off the input surface, or the border of
-    /// a lone triangle).
+    /// a lone triangle), as this walk cuts them: where holes meet at one vertex the directed
+    /// walk may cut them into a different number of loops than the topology report's
+    /// undirected one ([`crate::geometry::topology::TopologyReport::holes`], the figure to
+    /// report).
     pub holes_left: usize,
 }
 
