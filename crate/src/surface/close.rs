@@ -16,7 +16,7 @@
 //!    would face against the rest of the fan (a loop that is not star-shaped around `c`), the
 //!    loop is triangulated between its own vertices instead: the least-area triangulation
 //!    whose faces all face the way of the loop's Newell normal and add no diagonal that is an
-//!    edge already (dynamic programming, loops of at most [`MAX_TRIANGULATED`] edges).
+//!    edge already (dynamic programming, loops of at most `MAX_TRIANGULATED`, 100, edges).
 //!    A loop of three gets its one face, unless that face exists already (the
 //!    border of a lone triangle). Every new face walks its loop edge opposite to the face
 //!    already there, and each spoke or diagonal gets two new faces walking it both ways, so
