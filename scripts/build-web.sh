@@ -2,8 +2,8 @@
 # Build the browser module: `bash scripts/build-web.sh`.
 #
 # 1. compiles the crate's wasm-bindgen API for wasm32 as a cdylib in the `wasm-release` profile
-#    (opt-level z, fat LTO), twice: features `web,wgpu` (meshflow: WebGPU and the CPU) and
-#    `web` (meshflow_cpu: the CPU alone, the smaller download);
+#    (opt-level z, fat LTO), twice: features `web,wgpu` without the default `cpu` (meshflow:
+#    WebGPU alone) and `web` (meshflow_cpu: the CPU path, the smaller download);
 # 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
 #    with `--target web` into web/pkg/;
 # 3. shrinks each with npm binaryen@132's `wasm-opt -Oz` (Debian's binaryen 108 corrupts
@@ -11,6 +11,14 @@
 # 4. writes the half-size (f16) weights the page and npm package download by default
 #    (scripts/half-weights.mjs: weights/ -> weights/f16/);
 # 5. prints both modules' sizes, raw and gzipped.
+#
+# Size flags (BENCHMARKS.md "Browser module"): `-Z location-detail=none` drops the file and
+# line of each panic site. It is an unstable flag, so the stable compiler is told to accept it
+# (RUSTC_BOOTSTRAP=1, for these two commands only): the nightly here has no wasm32 standard
+# library, and the pinned stable compiler keeps its meaning fixed. Not `-Z fmt-debug=none`:
+# cubecl writes WGSL float literals with `{:?}`, which that flag turns into nothing.
+# `--low-memory-unused` lets wasm-opt fold addresses below 1 KiB, which Rust's wasm32 layout
+# never uses for data (the stack sits below 1 MiB and would have to overflow to reach them).
 set -euo pipefail
 
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
@@ -33,26 +41,29 @@ fi
 
 [[ -x node_modules/.bin/wasm-opt ]] || npm ci --no-audit --no-fund
 
-# Two modules from one API (crate/src/web/api.rs): meshflow (WebGPU and the CPU, with the
-# wgpu viewer) and meshflow_cpu (the CPU alone, without cubecl's kernels). The npm package
-# loads the CPU module wherever the CPU path is the faster one (no adapter, a software one).
+# Two modules from one API (crate/src/web/api.rs): meshflow (WebGPU with the wgpu viewer, no
+# CPU backend) and meshflow_cpu (the CPU path, without cubecl's kernels). The npm package
+# loads the CPU module wherever the CPU path is the faster one (no adapter, a software one)
+# and where WebGPU fails to start; the WebGPU module leaves it out (7% of its bytes).
 build_module() {
-    local name="$1" features="$2"
-    log "compiling $name (features $features, profile wasm-release)"
-    cargo rustc -p meshflow --profile wasm-release --target wasm32-unknown-unknown \
-        --features "$features" --crate-type cdylib
+    local name="$1"
+    shift
+    log "compiling $name ($*, profile wasm-release)"
+    RUSTC_BOOTSTRAP=1 cargo rustc -p meshflow --profile wasm-release \
+        --target wasm32-unknown-unknown "$@" --crate-type cdylib \
+        --config 'target.wasm32-unknown-unknown.rustflags = ["-Zlocation-detail=none"]'
     local wasm="$CARGO_TARGET_DIR/wasm32-unknown-unknown/wasm-release/meshflow.wasm"
     log "wasm-bindgen --target web -> $OUT/$name.js"
     wasm-bindgen --target web --out-dir "$OUT" --out-name "$name" "$wasm"
     log "wasm-opt -Oz $name"
-    node_modules/.bin/wasm-opt -Oz --enable-bulk-memory --enable-nontrapping-float-to-int \
-        --enable-sign-ext --enable-mutable-globals --enable-reference-types \
-        "$OUT/${name}_bg.wasm" -o "$OUT/${name}_bg.opt.wasm"
+    node_modules/.bin/wasm-opt -Oz --low-memory-unused --enable-bulk-memory \
+        --enable-nontrapping-float-to-int --enable-sign-ext --enable-mutable-globals \
+        --enable-reference-types "$OUT/${name}_bg.wasm" -o "$OUT/${name}_bg.opt.wasm"
     mv "$OUT/${name}_bg.opt.wasm" "$OUT/${name}_bg.wasm"
 }
 mkdir -p "$OUT"
-build_module meshflow web,wgpu
-build_module meshflow_cpu web
+build_module meshflow --no-default-features --features web,wgpu
+build_module meshflow_cpu --features web
 
 log "half-size weights for the browser -> weights/f16/"
 node scripts/half-weights.mjs weights weights/f16

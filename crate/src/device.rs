@@ -53,10 +53,23 @@ impl std::str::FromStr for BackendKind {
 /// feature or no Vulkan device can be opened.
 pub fn device(kind: BackendKind) -> Result<Device, String> {
     match kind {
-        BackendKind::Cpu => Ok(Device::flex()),
+        BackendKind::Cpu => cpu(),
         BackendKind::Wgpu => vulkan(),
         BackendKind::Ndarray => ndarray(),
     }
+}
+
+/// Burn's flex backend on the CPU.
+#[cfg(feature = "cpu")]
+pub fn cpu() -> Result<Device, String> {
+    Ok(Device::flex())
+}
+
+/// Without the `cpu` feature (the WebGPU browser module, whose CPU path is the separate
+/// meshflow_cpu module) there is no CPU backend.
+#[cfg(not(feature = "cpu"))]
+pub fn cpu() -> Result<Device, String> {
+    Err("this build has no CPU backend (build with the `cpu` feature; in the browser the CPU path is meshflow_cpu.js)".into())
 }
 
 /// Burn 0.22 deprecates ndarray in favour of flex; it stays reachable for the comparison.

@@ -62,3 +62,10 @@ pub mod workloads;
 /// The Burn version the models are written against, for callers that build tensors.
 pub use burn;
 pub use geometry::mesh::{Aabb, Mesh};
+
+/// A tensor shape as error messages show it (`[2, 128, 32]`), written out rather than
+/// debug-printed, as the rest of a message a user reads is.
+pub(crate) fn shape_text(dims: &[usize]) -> String {
+    let inner: Vec<String> = dims.iter().map(usize::to_string).collect();
+    format!("[{}]", inner.join(", "))
+}

@@ -225,6 +225,25 @@ await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adap
   console.log(`  probe on SwiftShader: ${c.probed.reason}`);
 });
 
+await check("'auto' falls back to the CPU module when WebGPU will not start", async () => {
+  // The chooser sees a GPU vendor's adapter; the WebGPU module then finds none. The WebGPU
+  // module has no CPU backend, so the package must fetch the CPU module and run there.
+  const got = await page.evaluate(async () => {
+    const { loadModel, wasmModule } = await import('./lib/index.js');
+    let asked = 0;
+    const original = navigator.gpu.requestAdapter;
+    navigator.gpu.requestAdapter = async () => (asked++ === 0 ? { info: { vendor: 'nvidia', architecture: 'forced' } } : null);
+    try {
+      const model = await loadModel({ backend: 'auto', useCache: false });
+      return { backend: model.backend, reason: model.backendReport.reason, module: wasmModule(), asked };
+    } finally {
+      navigator.gpu.requestAdapter = original;
+    }
+  });
+  assert(got.backend === 'cpu' && got.module === 'cpu', JSON.stringify(got));
+  assert(/WebGPU failed to start/.test(got.reason) && got.asked >= 2, JSON.stringify(got));
+});
+
 await check('the page fits a phone-sized viewport', async () => {
   await page.setViewportSize({ width: 390, height: 844 });
   const width = await page.evaluate(() => document.documentElement.scrollWidth);

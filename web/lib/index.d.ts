@@ -146,14 +146,15 @@ export interface LoadOptions {
   useCache?: boolean;
   /**
    * Where the wasm files are, if not beside the glue in pkg/: `cpu` for meshflow_cpu_bg.wasm
-   * (the CPU path alone, loaded when the CPU is chosen) and `webgpu` for meshflow_bg.wasm.
+   * (the CPU path, loaded when the CPU is chosen or WebGPU fails to start) and `webgpu` for
+   * meshflow_bg.wasm (WebGPU alone).
    */
   wasmUrls?: { cpu?: string | URL; webgpu?: string | URL };
 }
 
 /**
- * Instantiates a wasm module once: `'cpu'` (meshflow_cpu: the CPU path alone, the smaller
- * download) or `'webgpu'` (meshflow: WebGPU and the CPU). Resolves to its glue and memory.
+ * Instantiates a wasm module once: `'cpu'` (meshflow_cpu: the CPU path, the smaller
+ * download) or `'webgpu'` (meshflow: WebGPU alone). Resolves to its glue and memory.
  */
 export function initWasm(which?: 'cpu' | 'webgpu', wasmUrl?: string | URL): Promise<{ glue: unknown; memory: WebAssembly.Memory }>;
 /** Which wasm module is in use (`null` before any is loaded). */

@@ -8,8 +8,9 @@
 //   const mesh = await model.generate(points, { steps: 28, onStep: (i, n) => {} });
 //   const glb = mesh.toGlb();
 //
-// Two wasm modules: meshflow_cpu (the CPU path alone, about a fifth of the bytes) and meshflow
-// (WebGPU and the CPU). Only the one the chosen backend needs is downloaded.
+// Two wasm modules: meshflow_cpu (the CPU path, about a fifth of the bytes) and meshflow
+// (WebGPU alone). Only the one the chosen backend needs is downloaded; the CPU one also where
+// WebGPU fails to start.
 
 const FILES = ['vae.manifest.json', 'vae.safetensors', 'dit.manifest.json', 'dit.safetensors'];
 const CACHE = 'meshflow-weights-v1';
@@ -24,7 +25,7 @@ let current = null;
 
 /**
  * Instantiates one of the wasm modules once and returns its exports: `'cpu'` (meshflow_cpu,
- * the CPU path only) or `'webgpu'` (meshflow: WebGPU and the CPU). `wasmUrl`: where its
+ * the CPU path) or `'webgpu'` (meshflow: WebGPU only). `wasmUrl`: where its
  * `_bg.wasm` is (default: beside the JS glue).
  */
 export function initWasm(which = 'cpu', wasmUrl) {
@@ -311,17 +312,20 @@ export async function loadModel({
     fetchWeights(weights, { onProgress, useCache }),
   ]);
   const text = new TextDecoder();
-  // After a failed WebGPU start the WebGPU module's own CPU path runs (it is loaded already).
-  const load = (which) => glue.MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
+  const load = (module, which) =>
+    module.MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
   try {
     let inner;
     let { reason } = choice;
     try {
-      inner = await load(choice.backend);
+      inner = await load(glue, choice.backend);
     } catch (e) {
-      // 'auto' chose WebGPU but the device would not start: the CPU path still works.
+      // 'auto' chose WebGPU but the device would not start: the CPU path still works. The
+      // WebGPU module has no CPU backend (it would cost a twentieth of its bytes), so this
+      // fetches the small CPU module.
       if (backend !== 'auto' || choice.backend !== 'webgpu') throw e;
-      inner = await load('cpu');
+      const cpu = await initWasm('cpu', wasmUrls.cpu);
+      inner = await load(cpu.glue, 'cpu');
       reason = `WebGPU failed to start (${e?.message ?? e})`;
     }
     const model = new Model(inner);

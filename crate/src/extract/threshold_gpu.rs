@@ -24,7 +24,9 @@ pub enum GpuThresholdError {
     #[error("the tensors are not on a wgpu device")]
     NotOnWgpu,
     #[error(
-        "edge embeddings must be [B, N, even dim] and mask logits [B, N, 1]; got {0:?} and {1:?}"
+        "edge embeddings must be [B, N, even dim] and mask logits [B, N, 1]; got {} and {}",
+        crate::shape_text(.0),
+        crate::shape_text(.1)
     )]
     Shapes(Vec<usize>, Vec<usize>),
     #[error("{0} words do not fit one dispatch")]

@@ -19,9 +19,13 @@ use safetensors::{Dtype, SafeTensors};
 pub enum WeightsError {
     #[error("not a safetensors file: {0}")]
     Format(String),
-    #[error("tensor {name}: dtype {dtype} is not supported (only F32 and F64)")]
+    #[error("tensor {name}: dtype {dtype} is not supported (only F32, F64 and F16)")]
     Dtype { name: String, dtype: String },
-    #[error("tensor {name}: shape {found:?} does not match the configuration's {expected:?}")]
+    #[error(
+        "tensor {name}: shape {} does not match the configuration's {}",
+        crate::shape_text(.found),
+        crate::shape_text(.expected)
+    )]
     Shape {
         name: String,
         expected: Vec<usize>,
@@ -93,7 +97,7 @@ impl TensorMap {
                 other => {
                     return Err(WeightsError::Dtype {
                         name,
-                        dtype: format!("{other:?}"),
+                        dtype: other.to_string(),
                     });
                 }
             };

@@ -84,7 +84,7 @@ pub enum GenerateError {
     Surface(#[from] crate::geometry::sample::SampleError),
     #[error(transparent)]
     Extract(#[from] crate::extract::ExtractError),
-    #[error("the VAE makes {vae:?} latents but the DiT takes {dit:?}")]
+    #[error("the VAE makes {} latents of {} floats but the DiT takes {} of {}", vae.0, vae.1, dit.0, dit.1)]
     Mismatch {
         vae: (usize, usize),
         dit: (usize, usize),
@@ -665,14 +665,14 @@ pub fn faces_range(max: usize) -> std::ops::RangeInclusive<usize> {
 
 fn read(t: Tensor<3>) -> Result<TensorData, GenerateError> {
     t.try_into_data()
-        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+        .map_err(|e| GenerateError::Readback(e.to_string()))
 }
 
 fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
     read(t)?
         .convert::<f32>()
         .try_into_vec::<f32>()
-        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+        .map_err(|e| GenerateError::Readback(e.to_string()))
 }
 
 /// The GPU threshold where the tensors live on a wgpu device, the embeddings otherwise.
@@ -693,12 +693,12 @@ fn edges_on_device(embeddings: Tensor<3>, _mask_logits: Tensor<3>, _tau: f32) ->
 
 /// Edge bits from read-back data (u32, or whatever integer type the backend reports).
 pub fn read_bits(
-    data: Result<TensorData, impl std::fmt::Debug>,
+    data: Result<TensorData, impl std::fmt::Display>,
 ) -> Result<Vec<u32>, GenerateError> {
-    data.map_err(|e| GenerateError::Readback(format!("{e:?}")))?
+    data.map_err(|e| GenerateError::Readback(e.to_string()))?
         .convert::<u32>()
         .try_into_vec::<u32>()
-        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
+        .map_err(|e| GenerateError::Readback(e.to_string()))
 }
 
 fn vec3s(flat: &[f32]) -> Vec<Vec3> {

@@ -88,10 +88,10 @@ pub struct Reconstruction {
 
 fn read(t: Tensor<3>) -> Result<Vec<f32>, ReconstructError> {
     t.try_into_data()
-        .map_err(|e| ReconstructError::Readback(format!("{e:?}")))?
+        .map_err(|e| ReconstructError::Readback(e.to_string()))?
         .convert::<f32>()
         .try_into_vec::<f32>()
-        .map_err(|e| ReconstructError::Readback(format!("{e:?}")))
+        .map_err(|e| ReconstructError::Readback(e.to_string()))
 }
 
 fn vec3s(flat: &[f32]) -> Vec<Vec3> {

@@ -42,6 +42,15 @@ fn js_error(e: impl std::fmt::Display) -> JsError {
     JsError::new(&e.to_string())
 }
 
+/// What a thrown JS value says: an Error's message, a string itself, else its type.
+fn js_message(e: &JsValue) -> String {
+    if let Some(error) = e.dyn_ref::<js_sys::Error>() {
+        return error.message().into();
+    }
+    e.as_string()
+        .unwrap_or_else(|| format!("a thrown {}", e.js_typeof().as_string().unwrap_or_default()))
+}
+
 /// The loaded models and the device they run on.
 #[wasm_bindgen]
 pub struct MeshFlow {
@@ -72,9 +81,10 @@ async fn webgpu() -> Result<(Device, GpuSetup), String> {
 impl MeshFlow {
     /// Loads the VAE and DiT from their manifests (JSON text) and safetensors bytes, checking
     /// sha256, that the DiT belongs to this VAE, and every tensor's name and shape.
-    /// `backend`: `"webgpu"` (fail without an adapter, and always in the CPU-only module),
-    /// `"cpu"`, or `"auto"` (WebGPU when this module has it and an adapter exists, else the
-    /// CPU; read [`Self::backend`] to say which).
+    /// `backend`: `"webgpu"` (fails without an adapter, and always in the CPU-only module),
+    /// `"cpu"` (fails in the WebGPU module, which leaves the CPU path to meshflow_cpu), or
+    /// `"auto"` (WebGPU when this module has it and an adapter exists, else the CPU where this
+    /// module has it; read [`Self::backend`] to say which).
     pub async fn load(
         vae_manifest: String,
         vae_weights: Vec<u8>,
@@ -87,14 +97,18 @@ impl MeshFlow {
                 let (d, s) = webgpu().await.map_err(js_error)?;
                 ((d, Some(s)), "webgpu")
             }
-            "cpu" => ((Device::flex(), None), "cpu"),
+            "cpu" => ((crate::device::cpu().map_err(js_error)?, None), "cpu"),
             "auto" => match webgpu().await {
                 Ok((d, s)) => ((d, Some(s)), "webgpu"),
-                Err(_) => ((Device::flex(), None), "cpu"),
+                Err(gpu) => {
+                    let cpu = crate::device::cpu()
+                        .map_err(|cpu| js_error(format!("{gpu}; and {cpu}")))?;
+                    ((cpu, None), "cpu")
+                }
             },
             other => {
                 return Err(js_error(format!(
-                    "unknown backend {other:?}: expected \"webgpu\", \"cpu\" or \"auto\""
+                    "unknown backend \"{other}\": expected \"webgpu\", \"cpu\" or \"auto\""
                 )));
             }
         };
@@ -205,7 +219,7 @@ impl MeshFlow {
             if let Some(f) = &on_step {
                 let go = f
                     .call2(&JsValue::NULL, &(i + 1).into(), &opts.steps.into())
-                    .map_err(|e| js_error(format!("on_step threw: {e:?}")))?;
+                    .map_err(|e| js_error(format!("on_step threw: {}", js_message(&e))))?;
                 if go == JsValue::FALSE {
                     return Err(js_error(format!(
                         "sampling was cancelled after {} of {} steps",
@@ -244,10 +258,10 @@ async fn read(t: Tensor<3>) -> Result<Vec<f32>, JsError> {
     let data: TensorData = t
         .into_data_async()
         .await
-        .map_err(|e| js_error(format!("reading back from the device failed: {e:?}")))?;
+        .map_err(|e| js_error(format!("reading back from the device failed: {e}")))?;
     data.convert::<f32>()
         .try_into_vec::<f32>()
-        .map_err(|e| js_error(format!("reading back from the device failed: {e:?}")))
+        .map_err(|e| js_error(format!("reading back from the device failed: {e}")))
 }
 
 /// Resolves on a later macrotask (`setTimeout(0)`), so input and messages are handled

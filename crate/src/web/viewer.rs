@@ -266,7 +266,12 @@ impl Viewer {
                 self.surface.configure(&self.device, &self.config);
                 return Ok(());
             }
-            other => return Err(JsError::new(&format!("no frame to draw into: {other:?}"))),
+            // No frame this time (a timeout, a hidden canvas, a validation error).
+            _ => {
+                return Err(JsError::new(
+                    "no frame to draw into: the canvas surface gave none",
+                ));
+            }
         };
         let (w, h) = (self.config.width as f32, self.config.height as f32);
         let view_proj = self.camera.view_proj(w / h);
