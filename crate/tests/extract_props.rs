@@ -9,7 +9,9 @@ use meshflow::extract::{
 };
 use meshflow::geometry::normals::vertex_normals;
 use meshflow::geometry::primitives::{grid, icosphere};
-use meshflow::geometry::topology::{TopologyReport, edges, rotate_min_first, sorted_face};
+use meshflow::geometry::topology::{
+    EdgeIncidence, TopologyReport, edges, hole_loops, rotate_min_first, sorted_face,
+};
 use meshflow::rng::Rng;
 use proptest::prelude::*;
 
@@ -36,6 +38,16 @@ fn random_mesh(kind: u8, size: u32, jitter: f32, delete_percent: u64, seed: u64)
         .map(|f| f.map(|v| perm[v as usize]))
         .collect();
     Mesh::new(positions, faces)
+}
+
+/// Whether some vertex has more than two boundary edges (several holes meet there).
+fn loops_meet_at_a_vertex(faces: &[[u32; 3]]) -> bool {
+    let mut degree = std::collections::HashMap::<u32, usize>::new();
+    for [a, b] in EdgeIncidence::new(faces).boundary_edges() {
+        *degree.entry(a).or_default() += 1;
+        *degree.entry(b).or_default() += 1;
+    }
+    degree.values().any(|&d| d > 2)
 }
 
 fn sorted_set(faces: &[[u32; 3]]) -> Vec<[u32; 3]> {
@@ -246,7 +258,15 @@ proptest! {
         prop_assert_eq!(t.non_manifold_edges, 0);
         prop_assert_eq!(t.inconsistent_winding_edges, 0);
         prop_assert_eq!(t.degenerate_faces, before.degenerate_faces);
-        prop_assert!(t.holes <= before.holes);
+        // Closing only removes boundary: fewer (or as many) boundary edges and directed loops.
+        prop_assert!(t.boundary_edges <= before.boundary_edges);
+        prop_assert!(hole_loops(&out.faces).len() <= hole_loops(&holed.faces).len());
+        // The report's count walks the boundary undirected and may cut loops that meet at a
+        // vertex differently once a loop there is closed (22 -> 23 for one seed while five
+        // loops closed, in the regressions file); where no loops meet it never grows.
+        if !loops_meet_at_a_vertex(&holed.faces) {
+            prop_assert!(t.holes <= before.holes);
+        }
         // Only added: the old faces and vertices stay, in order.
         prop_assert_eq!(&out.faces[..holed.faces.len()], &holed.faces[..]);
         prop_assert_eq!(&out.positions[..holed.positions.len()], &holed.positions[..]);
