@@ -397,3 +397,56 @@ fn a_face_count_sets_the_vertex_budget() {
     );
     assert_eq!(out[0].vertex_budget, 72);
 }
+
+#[test]
+fn more_samples_keep_the_candidate_with_the_fewest_holes() {
+    let models = models();
+    let generator = models.generator();
+    let points = sphere_points(2.0, Vec3::new(1.0, 0.0, -3.0));
+    let run = |opts: &GenerateOptions| {
+        generator
+            .generate(std::slice::from_ref(&points), opts, &mut |_, _| true)
+            .unwrap()
+            .remove(0)
+    };
+    let kept = run(&GenerateOptions {
+        samples: 4,
+        seed: 10,
+        ..options(3)
+    });
+    // Candidate j is the one-sample mesh of seed 10 + j; the kept one is among them with the
+    // fewest holes of all four.
+    let singles: Vec<_> = (0..4)
+        .map(|j| {
+            run(&GenerateOptions {
+                seed: 10 + j,
+                ..options(3)
+            })
+        })
+        .collect();
+    let fewest = singles.iter().map(|g| g.topology.holes).min().unwrap();
+    assert_eq!(kept.topology.holes, fewest);
+    assert!(
+        singles
+            .iter()
+            .any(|g| g.mesh.faces == kept.mesh.faces && g.mesh.positions == kept.mesh.positions),
+        "the kept mesh is none of the candidates"
+    );
+    // Out of range: a typed error before any sampling.
+    for samples in [0, meshflow::pipeline::generate::MAX_SAMPLES + 1] {
+        let err = generator
+            .generate(
+                std::slice::from_ref(&points),
+                &GenerateOptions {
+                    samples,
+                    ..options(3)
+                },
+                &mut |_, _| true,
+            )
+            .unwrap_err();
+        assert!(
+            matches!(err, GenerateError::Samples(s) if s == samples),
+            "{err}"
+        );
+    }
+}

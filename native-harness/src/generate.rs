@@ -61,6 +61,10 @@ pub struct SamplingArgs {
     steps: usize,
     #[arg(long, default_value_t = 0)]
     seed: u64,
+    /// Candidates drawn from different noise; the one kept has the fewest holes, then lies
+    /// closest to the input points (each costs a whole generation; 1..=16).
+    #[arg(long, default_value_t = GenerateOptions::default().samples)]
+    samples: usize,
     #[arg(long, value_enum, default_value = "to-zero")]
     schedule: Schedule,
     #[command(flatten)]
@@ -142,6 +146,7 @@ impl SamplingArgs {
             faces,
             steps: self.steps,
             seed: self.seed,
+            samples: self.samples,
             schedule: self.schedule.into(),
             extract: self.extract.options(),
             fit: if self.no_fit {
@@ -212,6 +217,8 @@ struct GenerateReport<'a> {
     output: String,
     /// `--faces`, when given (the faces made are in `topology`).
     faces_asked: Option<usize>,
+    /// `--samples`: candidates drawn, one kept.
+    samples: usize,
     vertex_budget: usize,
     features: ShapeFeatures,
     load_s: f64,
@@ -293,7 +300,15 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
             Ok((g, load_s))
         });
         match result {
-            Ok((g, load_s)) => report(&g, input, output, load_s, args.faces, args.json)?,
+            Ok((g, load_s)) => report(
+                &g,
+                input,
+                output,
+                load_s,
+                args.faces,
+                args.sampling.samples,
+                args.json,
+            )?,
             // In batch mode one bad file is reported and the rest still run.
             Err(e) if batch => {
                 eprintln!("error: {e:#}");
@@ -317,6 +332,7 @@ fn report(
     output: &Path,
     load_s: f64,
     faces_asked: Option<usize>,
+    samples: usize,
     json: bool,
 ) -> Result<()> {
     if json {
@@ -324,6 +340,7 @@ fn report(
             input: input.display().to_string(),
             output: output.display().to_string(),
             faces_asked,
+            samples,
             vertex_budget: g.vertex_budget,
             features: g.features,
             load_s,
@@ -350,6 +367,11 @@ fn report(
             "  vertex budget {} (occupancy {}, surface variation {:.4})",
             g.vertex_budget, g.features.occupied_voxels, g.features.surface_variation
         ),
+    }
+    if samples > 1 {
+        println!(
+            "  kept the best of {samples} candidates: fewest holes, then closest to the input points"
+        );
     }
     println!(
         "  times: load {:.3} s, condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s, \

@@ -498,7 +498,13 @@ await check('the npm package imports and generates the way a user would', async 
            let badClose = '';
            try { await model.generate(points, { ...options, closeHoles: 'no' }); } catch (e) { badClose = e.message; }
            const byFaces = await model.generate(points, { steps: 2, faces: 120 });
+           // Three candidates in one batch: the first is the one-sample mesh, so the kept one
+           // has at most its holes.
+           const best = await model.generate(points, { ...options, samples: 3 });
+           let badSamples = '';
+           try { await model.generate(points, { ...options, samples: 0 }); } catch (e) { badSamples = e.message; }
            window.__options = { both, tooFew, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
+             samples: { one: mesh.report.topology.holes, best: best.report.topology.holes, faces: best.indices.length / 3, badSamples },
              holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
            window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
@@ -561,6 +567,8 @@ await check('the npm package imports and generates the way a user would', async 
   assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
   assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
   assert(o.byFaces.budget === Math.round(120 / 1.25) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
+  assert(o.samples.faces > 0 && o.samples.best <= o.samples.one, `samples: 3: ${JSON.stringify(o.samples)}`);
+  assert(/samples must be an integer from 1 to 16/.test(o.samples.badSamples), `samples: 0 was not refused: ${o.samples.badSamples}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

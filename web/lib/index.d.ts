@@ -57,6 +57,12 @@ export interface GenerateOptions {
   steps?: number;
   seed?: number;
   /**
+   * Candidates drawn from different noise in one batch (1 to 16, default 1); the one kept has
+   * the fewest holes, then lies closest to the points. Each costs a generation; on the test
+   * split 8 give 1.3 holes a mesh against 3.9 for one (BENCHMARKS.md).
+   */
+  samples?: number;
+  /**
    * How edges become faces. `'manifold'` (default): faces accepted best-first by the model's
    * edge scores, so no edge has a third face and the winding is consistent; small holes are
    * filled and tiny pieces dropped. `'paper'`: the paper's Algorithm 1 (every 3-clique).

@@ -253,12 +253,17 @@ export class Model {
    * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
    * per edge), `fit` (default true: vertices moved onto the points and the surface completed
    * between them), `closeHoles` (default true: each hole left where the points go on is
-   * closed by a patch that does not fold; with `fit` only), `onStep(step, steps)`, `signal` (an AbortSignal: aborting cancels between
-   * steps and rejects).
+   * closed by a patch that does not fold; with `fit` only), `samples` (default 1: candidates
+   * drawn from different noise in one batch, the one kept having the fewest holes, then
+   * lying closest to the points; 1 to 16, each costs a generation), `onStep(step, steps)`,
+   * `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
-  async generate(points, { vertices, faces, steps, seed, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
+  async generate(points, { vertices, faces, steps, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
     if (vertices !== undefined && faces !== undefined) {
       throw new TypeError('ask for vertices or for faces, not both');
+    }
+    if (samples !== undefined && !(Number.isInteger(samples) && samples >= 1 && samples <= 16)) {
+      throw new TypeError(`samples must be an integer from 1 to 16, got ${JSON.stringify(samples)}`);
     }
     if (typeof fit !== 'boolean') {
       throw new TypeError(`fit must be true or false, got ${JSON.stringify(fit)}`);
@@ -278,6 +283,7 @@ export class Model {
       faces,
       steps,
       seed,
+      samples,
       extract,
       ...(fit ? {} : { fit: { iterations: 0 }, complete: { enabled: false } }),
       ...(closeHoles ? {} : { close: { enabled: false } }),

@@ -23,6 +23,7 @@ use serde::{Deserialize, Serialize};
 use web_time::Instant;
 
 use crate::Mesh;
+use crate::eval::metrics::chamfer_hausdorff;
 use crate::extract::{
     DecodedEdges, DecodedVertices, ExtractMethod, ExtractOptions, ExtractReport,
     extract_from_decoded,
@@ -91,6 +92,19 @@ pub enum GenerateError {
     },
     #[error("reading back from the device failed: {0}")]
     Readback(String),
+    #[error("samples must be 1..={MAX_SAMPLES}, got {0}")]
+    Samples(usize),
+}
+
+/// Most candidates [`GenerateOptions::samples`] may ask for (each costs a whole generation).
+pub const MAX_SAMPLES: usize = 16;
+
+fn check_samples(samples: usize) -> Result<(), GenerateError> {
+    if (1..=MAX_SAMPLES).contains(&samples) {
+        Ok(())
+    } else {
+        Err(GenerateError::Samples(samples))
+    }
 }
 
 /// What the caller chooses (missing JSON fields take the defaults).
@@ -106,6 +120,10 @@ pub struct GenerateOptions {
     /// Euler steps (the paper: 28).
     pub steps: usize,
     pub seed: u64,
+    /// Candidates drawn per input, each from its own noise; the one kept has the fewest holes,
+    /// then lies closest to the input points ([`keep_best`]). 1 draws one (candidate `j` of
+    /// input `k` of `n` is seeded by `seed + k + j * n`, so the first is the one-sample mesh).
+    pub samples: usize,
     pub schedule: ScheduleMode,
     pub extract: ExtractOptions,
     /// Fitting the extracted vertices to the input points (`iterations: 0` turns it off).
@@ -125,6 +143,7 @@ impl Default for GenerateOptions {
             faces: None,
             steps: 28,
             seed: 0,
+            samples: 1,
             schedule: ScheduleMode::ToZero,
             extract: ExtractOptions::default(),
             fit: FitOptions::default(),
@@ -289,6 +308,31 @@ impl Generator<'_> {
         if inputs.is_empty() {
             return Ok(Vec::new());
         }
+        check_samples(opts.samples)?;
+        if opts.samples > 1 {
+            // Every candidate is an input of its own: input k's candidates sit at k, k + n, ...
+            let n = inputs.len();
+            let one = GenerateOptions {
+                samples: 1,
+                ..opts.clone()
+            };
+            let expanded: Vec<Vec<Vec3>> = (0..opts.samples)
+                .flat_map(|_| inputs.iter().cloned())
+                .collect();
+            let mut all: Vec<Option<Generated>> = self
+                .generate(&expanded, &one, on_step)?
+                .into_iter()
+                .map(Some)
+                .collect();
+            return Ok((0..n)
+                .map(|k| {
+                    let candidates = (0..opts.samples)
+                        .filter_map(|j| all[k + j * n].take())
+                        .collect();
+                    keep_best(candidates, &inputs[k])
+                })
+                .collect());
+        }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         let slots = inputs
             .iter()
@@ -361,12 +405,15 @@ impl Generator<'_> {
     /// Stage 1: checks the models fit together, conditions every input (model frame, budget,
     /// RoPE positions) and draws the noise (input `k` seeded by `seed + k`). No input at all
     /// is [`GenerateError::NoPoints`]. With length buckets the batch takes the bucket of its
-    /// largest budget; [`Self::generate`] splits batches by bucket first.
+    /// largest budget; [`Self::generate`] splits batches by bucket first. For
+    /// `opts.samples` candidates of one input, pass it that many times and keep one with
+    /// [`keep_best`] after [`Self::extract`], as [`Self::generate`] does.
     pub fn prepare(
         &self,
         inputs: &[Vec<Vec3>],
         opts: &GenerateOptions,
     ) -> Result<Prepared, GenerateError> {
+        check_samples(opts.samples)?;
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         self.prepare_seeded(inputs, &seeds, opts)
     }
@@ -656,6 +703,36 @@ pub fn budget_for_faces(faces: usize, max: usize) -> Result<usize, GenerateError
     }
     Ok(((faces as f32 / FACES_PER_VERTEX).round() as usize).clamp(MIN_BUDGET, max))
 }
+
+/// The candidate a user would keep ([`GenerateOptions::samples`]): the fewest holes (as
+/// [`TopologyReport`] counts them), then the smallest Chamfer distance between its surface
+/// and `points` (the input, in the candidates' frame), then the first. Only the output and the
+/// input decide, never a ground truth. Panics on no candidates.
+pub fn keep_best(candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
+    let score = |g: &Generated| {
+        let distance = sample_surface(&g.mesh, SELECTION_SAMPLES, 0)
+            .ok()
+            .and_then(|s| chamfer_hausdorff(&s.points, points).ok())
+            .map_or(f64::INFINITY, |d| d.chamfer);
+        (g.topology.holes, distance)
+    };
+    let scores: Vec<(usize, f64)> = candidates.iter().map(score).collect();
+    let best = (0..candidates.len())
+        .min_by(|&a, &b| {
+            scores[a]
+                .0
+                .cmp(&scores[b].0)
+                .then(scores[a].1.total_cmp(&scores[b].1))
+        })
+        .expect("at least one candidate");
+    candidates
+        .into_iter()
+        .nth(best)
+        .expect("the best is one of them")
+}
+
+/// Surface samples per candidate for [`keep_best`]'s distance to the input.
+const SELECTION_SAMPLES: usize = 2048;
 
 /// The face counts a model of `max` vertices can be asked for.
 pub fn faces_range(max: usize) -> std::ops::RangeInclusive<usize> {

@@ -27,7 +27,7 @@ use crate::model::sampler::euler_step;
 use crate::model::schedule::step_times;
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    read_bits,
+    keep_best, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(feature = "wgpu")]
@@ -199,7 +199,9 @@ impl MeshFlow {
         };
         let points: Vec<Vec3> = points.chunks_exact(3).map(Vec3::from_slice).collect();
         let generator = self.generator();
-        let mut prepared = generator.prepare(&[points], &opts).map_err(js_error)?;
+        // One batch row per candidate (`samples`); `keep_best` picks one after extraction.
+        let candidates = vec![points.clone(); opts.samples];
+        let mut prepared = generator.prepare(&candidates, &opts).map_err(js_error)?;
 
         let started = Instant::now();
         let times = step_times(opts.steps, opts.schedule);
@@ -245,11 +247,11 @@ impl MeshFlow {
             },
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
-        let mut out = generator
+        let out = generator
             .extract(prepared, &host, &opts)
             .map_err(js_error)?;
         Ok(GeneratedMesh {
-            generated: out.remove(0),
+            generated: keep_best(out, &points),
         })
     }
 }
