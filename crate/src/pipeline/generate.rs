@@ -708,7 +708,11 @@ pub fn budget_for_faces(faces: usize, max: usize) -> Result<usize, GenerateError
 /// [`TopologyReport`] counts them), then the smallest Chamfer distance between its surface
 /// and `points` (the input, in the candidates' frame), then the first. Only the output and the
 /// input decide, never a ground truth. Panics on no candidates.
-pub fn keep_best(candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
+pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
+    // One candidate (the default): nothing to score, so no surface sampling on every call.
+    if candidates.len() == 1 {
+        return candidates.remove(0);
+    }
     let score = |g: &Generated| {
         let distance = sample_surface(&g.mesh, SELECTION_SAMPLES, 0)
             .ok()
