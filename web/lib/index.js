@@ -327,7 +327,7 @@ export async function loadModel({
       inner = await load(glue, choice.backend);
     } catch (e) {
       // 'auto' chose WebGPU but the device would not start: the CPU path still works. The
-      // WebGPU module has no CPU backend (it would cost a twentieth of its bytes), so this
+      // WebGPU module has no CPU backend (it would cost 7% of its bytes gzipped), so this
       // fetches the small CPU module.
       if (backend !== 'auto' || choice.backend !== 'webgpu') throw e;
       const cpu = await initWasm('cpu', wasmUrls.cpu);
