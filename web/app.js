@@ -71,6 +71,7 @@ function showStats(report) {
   const topo = report.topology;
   const rows = [
     ['vertex budget', report.vertexBudget],
+    ['candidates drawn', report.samples],
     ['vertices / faces', `${topo.vertices} / ${topo.faces}`],
     ['components', topo.components],
     ['boundary edges / holes', `${topo.boundary_edges} / ${topo.holes}`],
@@ -271,6 +272,7 @@ $('generate').addEventListener('click', () => {
       fit: $('fit').checked,
       closeHoles: $('close-holes').checked,
       steps: num('steps'),
+      samples: num('samples'),
       seed: num('seed'),
       extraction: $('extraction').value,
     },

@@ -5,7 +5,9 @@
 
 use burn::tensor::Device;
 use glam::Vec3;
+use meshflow::eval::metrics::chamfer_hausdorff;
 use meshflow::geometry::primitives::icosphere;
+use meshflow::geometry::sample::sample_surface;
 use meshflow::model::dit::{Dit, DitConfig};
 use meshflow::model::sampler::SampleError;
 use meshflow::model::{MeshVae, TensorMap, VaeConfig, load_module, seeded_init};
@@ -70,10 +72,12 @@ fn sphere_points(scale: f32, offset: Vec3) -> Vec<Vec3> {
     points.iter().map(|&p| p * scale + offset).collect()
 }
 
+/// One candidate (the default draws 12; one keeps these tests fast).
 fn options(steps: usize) -> GenerateOptions {
     GenerateOptions {
         steps,
         vertices: Some(40),
+        samples: 1,
         ..Default::default()
     }
 }
@@ -399,7 +403,7 @@ fn a_face_count_sets_the_vertex_budget() {
 }
 
 #[test]
-fn more_samples_keep_the_candidate_with_the_fewest_holes() {
+fn more_samples_keep_the_candidate_closest_to_the_input_with_holes_counted() {
     let models = models();
     let generator = models.generator();
     let points = sphere_points(2.0, Vec3::new(1.0, 0.0, -3.0));
@@ -414,8 +418,9 @@ fn more_samples_keep_the_candidate_with_the_fewest_holes() {
         seed: 10,
         ..options(3)
     });
-    // Candidate j is the one-sample mesh of seed 10 + j; the kept one is among them with the
-    // fewest holes of all four.
+    // Candidate j is the one-sample mesh of seed 10 + j; the kept one is among them, with the
+    // smallest score: Chamfer distance of its surface to the input points, times one plus
+    // HOLE_WEIGHT per hole.
     let singles: Vec<_> = (0..4)
         .map(|j| {
             run(&GenerateOptions {
@@ -424,14 +429,18 @@ fn more_samples_keep_the_candidate_with_the_fewest_holes() {
             })
         })
         .collect();
-    let fewest = singles.iter().map(|g| g.topology.holes).min().unwrap();
-    assert_eq!(kept.topology.holes, fewest);
-    assert!(
-        singles
-            .iter()
-            .any(|g| g.mesh.faces == kept.mesh.faces && g.mesh.positions == kept.mesh.positions),
-        "the kept mesh is none of the candidates"
-    );
+    let score = |g: &meshflow::pipeline::generate::Generated| {
+        let surface = sample_surface(&g.mesh, 2048, 0).unwrap();
+        chamfer_hausdorff(&surface.points, &points).unwrap().chamfer
+            * (1.0 + meshflow::pipeline::generate::HOLE_WEIGHT * g.topology.holes as f64)
+    };
+    let scores: Vec<f64> = singles.iter().map(score).collect();
+    let kept_at = singles
+        .iter()
+        .position(|g| g.mesh.faces == kept.mesh.faces && g.mesh.positions == kept.mesh.positions)
+        .expect("the kept mesh is none of the candidates");
+    let best = scores.iter().cloned().fold(f64::INFINITY, f64::min);
+    assert_eq!(scores[kept_at], best, "kept {kept_at} of scores {scores:?}");
     // Out of range: a typed error before any sampling.
     for samples in [0, meshflow::pipeline::generate::MAX_SAMPLES + 1] {
         let err = generator

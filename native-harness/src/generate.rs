@@ -56,13 +56,13 @@ pub struct SamplingArgs {
     /// shipped weights, found from any folder: see README.md].
     #[arg(long)]
     weights: Option<PathBuf>,
-    /// Euler steps.
-    #[arg(long, default_value_t = 28)]
+    /// Euler steps (the paper's default is 28; a candidate more buys more than more steps).
+    #[arg(long, default_value_t = GenerateOptions::default().steps)]
     steps: usize,
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// Candidates drawn from different noise; the one kept has the fewest holes, then lies
-    /// closest to the input points (each costs a whole generation; 1..=16).
+    /// Candidates drawn from different noise; the one kept lies closest to the input points,
+    /// each hole counting against it (each costs a whole generation; 1..=16).
     #[arg(long, default_value_t = GenerateOptions::default().samples)]
     samples: usize,
     #[arg(long, value_enum, default_value = "to-zero")]
@@ -370,7 +370,7 @@ fn report(
     }
     if samples > 1 {
         println!(
-            "  kept the best of {samples} candidates: fewest holes, then closest to the input points"
+            "  kept the best of {samples} candidates: closest to the input points, holes counting against them"
         );
     }
     println!(

@@ -24,6 +24,8 @@ export interface TopologyReport {
 
 export interface GenerateReport {
   vertexBudget: number;
+  /** Candidates drawn (`samples`); the mesh is the one kept. */
+  samples: number;
   features: { occupied_voxels: number; surface_variation: number };
   times: StageTimes;
   topology: TopologyReport;
@@ -53,13 +55,13 @@ export interface GenerateOptions {
    * a triangulation of the hole's border); with `fit` only. False leaves them open.
    */
   closeHoles?: boolean;
-  /** Euler steps, default 28. */
+  /** Euler steps per candidate, default 7 (the paper uses 28). */
   steps?: number;
   seed?: number;
   /**
-   * Candidates drawn from different noise in one batch (1 to 16, default 1); the one kept has
-   * the fewest holes, then lies closest to the points. Each costs a generation; on the test
-   * split 8 give 1.3 holes a mesh against 3.9 for one (BENCHMARKS.md).
+   * Candidates drawn from different noise in one batch (1 to 16, default 12); the one kept
+   * lies closest to the points, each hole counting against it. Each costs a generation; on
+   * the test split 12 give 1.3 holes a mesh against 3.8 for one (BENCHMARKS.md).
    */
   samples?: number;
   /**

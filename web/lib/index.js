@@ -5,7 +5,7 @@
 //   import { loadModel, readPoints } from 'meshflow';
 //   const model = await loadModel({ onProgress: (got, total) => {} });
 //   const points = await readPoints(bytes, 'scan.ply');
-//   const mesh = await model.generate(points, { steps: 28, onStep: (i, n) => {} });
+//   const mesh = await model.generate(points, { samples: 12, onStep: (i, n) => {} });
 //   const glb = mesh.toGlb();
 //
 // Two wasm modules: meshflow_cpu (the CPU path, about a fifth of the bytes) and meshflow
@@ -248,14 +248,14 @@ export class Model {
   }
   /**
    * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices` or `faces`
-   * (a face count to aim for; not both), `steps` (default 28), `seed`, `extraction`
+   * (a face count to aim for; not both), `steps` (default 7), `seed`, `extraction`
    * (`'manifold'`, the default: no edge with a third face, consistent winding; or `'paper'`:
    * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
    * per edge), `fit` (default true: vertices moved onto the points and the surface completed
    * between them), `closeHoles` (default true: each hole left where the points go on is
-   * closed by a patch that does not fold; with `fit` only), `samples` (default 1: candidates
-   * drawn from different noise in one batch, the one kept having the fewest holes, then
-   * lying closest to the points; 1 to 16, each costs a generation), `onStep(step, steps)`,
+   * closed by a patch that does not fold; with `fit` only), `samples` (default 12: candidates
+   * drawn from different noise in one batch, the one kept lying closest to the points with
+   * each hole counting against it; 1 to 16, each costs a generation), `onStep(step, steps)`,
    * `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
   async generate(points, { vertices, faces, steps, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {

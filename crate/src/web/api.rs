@@ -177,7 +177,8 @@ impl MeshFlow {
     }
 
     /// Generates a mesh from `points` (x, y, z, ... in any frame). `options` is JSON:
-    /// `{"vertices": 300, "steps": 28, "seed": 0, "schedule": "to-zero"}`, each optional.
+    /// `{"vertices": 300, "steps": 7, "samples": 12, "seed": 0, "schedule": "to-zero"}`, each
+    /// optional (the defaults of [`GenerateOptions`]).
     /// `on_step(step, steps)` is called after every step once the GPU has finished it;
     /// returning `false` cancels (the promise rejects with a "cancelled" message).
     pub async fn generate(
@@ -252,6 +253,7 @@ impl MeshFlow {
             .map_err(js_error)?;
         Ok(GeneratedMesh {
             generated: keep_best(out, &points),
+            samples: opts.samples,
         })
     }
 }
@@ -286,6 +288,8 @@ async fn yield_to_event_loop() {
 #[wasm_bindgen]
 pub struct GeneratedMesh {
     generated: Generated,
+    /// Candidates drawn; this is the one kept.
+    samples: usize,
 }
 
 #[wasm_bindgen]
@@ -323,13 +327,14 @@ impl GeneratedMesh {
             .collect()
     }
 
-    /// JSON: `vertexBudget`, `times` (seconds per stage), `topology`, `extract`, `close` (the
-    /// holes closed and left open).
+    /// JSON: `vertexBudget`, `samples` (candidates drawn, one kept), `times` (seconds per
+    /// stage), `topology`, `extract`, `close` (the holes closed and left open).
     #[wasm_bindgen(getter)]
     pub fn report(&self) -> String {
         let g = &self.generated;
         serde_json::json!({
             "vertexBudget": g.vertex_budget,
+            "samples": self.samples,
             "features": g.features,
             "times": g.times,
             "topology": g.topology,
