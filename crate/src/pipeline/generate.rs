@@ -120,7 +120,7 @@ pub struct GenerateOptions {
     /// Euler steps. The paper's default is 28; 7 is the default here, since one more
     /// candidate (`samples`) buys far more than more steps for the same time (7 steps of 12
     /// candidates: test CD x100 4.45, 1.31 holes; 28 steps of one: 5.18, 3.85; BENCHMARKS.md,
-    /// "Best of several samples").
+    /// "The default: 12 candidates of 7 steps").
     pub steps: usize,
     pub seed: u64,
     /// Candidates drawn per input, each from its own noise; the one kept lies closest to the
@@ -807,8 +807,8 @@ pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
 /// The distance to the input ranks candidates almost exactly as the distance to the ground
 /// truth does (correlation 0.99 within a mesh's candidates on the validation split), so it
 /// leads; by distance alone 8 candidates keep 3.6 holes a mesh, by holes first 1.3 at 0.2
-/// more CD x100; at 0.5, 1.4 holes and most of the distance's gain (BENCHMARKS.md, "Best of
-/// several samples").
+/// more CD x100; at 0.5, 1.4 holes and most of the distance's gain (BENCHMARKS.md, "The
+/// default: 12 candidates of 7 steps").
 pub const HOLE_WEIGHT: f64 = 0.5;
 
 /// Surface samples per candidate for [`keep_best`]'s distance to the input.
