@@ -10,6 +10,10 @@
 #    seed + k + 8j, so these are exactly the candidates `--samples 12` draws. candidates.py
 #    then scores each one (holes, CD to the ground truth, and the distance to the input that
 #    keep_best measures) into candidates_val_s7.csv, and plot.py replays selection rules on it.
+#
+# arms.csv's "holes first" rows (hf) were measured with the build of 412950f, before keep_best
+# weighed holes against the distance; with a later build every arm of more than one candidate
+# keeps by the hole weight, and the replay (plot.py) is where the two rules meet.
 set -euo pipefail
 OUT="${1:?usage: run.sh OUT_DIR}"
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
