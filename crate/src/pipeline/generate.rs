@@ -793,7 +793,7 @@ pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
                 d.chamfer * (1.0 + HOLE_WEIGHT * g.topology.holes as f64)
             })
     };
-    let scores: Vec<f64> = candidates.iter().map(score).collect();
+    let scores: Vec<f64> = map_in_parallel(&candidates, |_, g| score(g));
     let best = (0..candidates.len())
         .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
         .expect("at least one candidate");
