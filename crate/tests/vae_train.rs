@@ -323,3 +323,84 @@ fn decoder_only_training_keeps_the_latent_space() {
     let (before, after) = (loss(&first), loss(&tuned));
     assert!(after < before, "validation loss {before} -> {after}");
 }
+
+/// A decoder of another size on a trained encoder (`init` holding the encoder side alone): the
+/// encoder stays bit for bit, the new decoder learns from its seeded start, and a full `init`
+/// whose decoder has the old shapes is refused with the tensor it could not load.
+#[test]
+fn decoder_only_training_can_start_a_decoder_of_another_size() {
+    use meshflow::model::TensorMap;
+    use meshflow::pipeline::shipped::is_encoder_side;
+    use meshflow::train::vae::train_vae_from;
+    let device = Device::flex();
+    let data = meshes();
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let base = small_config(60);
+    let first = train_vae(
+        &base,
+        &data,
+        &data,
+        &temp_dir("wide-base"),
+        &device,
+        &mut quiet,
+    )
+    .unwrap()
+    .weights;
+    let mut cfg = small_config(60);
+    cfg.decoder_only = true;
+    cfg.model.width_decoder *= 2;
+    cfg.model.num_layers_decoder += 1;
+    assert!(cfg.model.same_encoder(&base.model) && cfg.model != base.model);
+    let mut other_latents = base.model.clone();
+    other_latents.latent_dim *= 2;
+    assert!(!other_latents.same_encoder(&base.model));
+
+    let dir = temp_dir("wide-dec");
+    let err = train_vae_from(&cfg, Some(&first), &data, &data, &dir, &device, &mut quiet)
+        .err()
+        .expect("old decoder shapes accepted");
+    assert!(err.to_string().contains("does not match"), "{err}");
+
+    let encoder = TensorMap {
+        tensors: first
+            .tensors
+            .iter()
+            .filter(|(name, _)| is_encoder_side(name))
+            .map(|(name, t)| (name.clone(), t.clone()))
+            .collect(),
+    };
+    let wide = train_vae_from(
+        &cfg,
+        Some(&encoder),
+        &data,
+        &data,
+        &dir,
+        &device,
+        &mut quiet,
+    )
+    .unwrap()
+    .weights;
+    for (name, tensor) in &encoder.tensors {
+        assert_eq!(&wide.tensors[name], tensor, "{name} changed");
+    }
+    let untrained = meshflow::model::seeded_init(MeshVae::new(&cfg.model, &device), cfg.seed);
+    let untrained = load_module(untrained, &encoder, &|_| false);
+    assert!(untrained.is_err(), "the encoder alone is not a whole VAE");
+    let loss = |w: &TensorMap| {
+        let vae = load_module(MeshVae::new(&cfg.model, &device), w, &|_| false).unwrap();
+        validate(&vae, &data, &cfg, &device, 0).unwrap().val_loss
+    };
+    // Where the run started: the trained encoder and the seeded decoder.
+    let start = meshflow::model::load_module_keeping(
+        meshflow::model::seeded_init(MeshVae::new(&cfg.model, &device), cfg.seed),
+        &encoder,
+        &|_| false,
+        &|name| !is_encoder_side(name),
+    )
+    .unwrap();
+    let (before, after) = (loss(&meshflow::model::module_tensors(&start)), loss(&wide));
+    assert!(after < 0.5 * before, "validation loss {before} -> {after}");
+}

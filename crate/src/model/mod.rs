@@ -17,4 +17,6 @@ pub mod vae;
 pub mod weights;
 
 pub use vae::{Decoded, MeshVae, Posterior, Trace, VaeConfig, spacetime_distances};
-pub use weights::{TensorMap, WeightsError, load_module, module_tensors, seeded_init};
+pub use weights::{
+    TensorMap, WeightsError, load_module, load_module_keeping, module_tensors, seeded_init,
+};

@@ -150,6 +150,20 @@ impl VaeConfig {
         encoder + decoder + distances
     }
 
+    /// Whether `other` encodes meshes with the same encoder shapes: every size the encoder and
+    /// the pre-KL projection read is equal, whatever the decoder's width, depth, edge
+    /// channels and threshold. A decoder-only run may change those and keep the encoder.
+    pub fn same_encoder(&self, other: &VaeConfig) -> bool {
+        let decoder_free = |c: &VaeConfig| VaeConfig {
+            width_decoder: 0,
+            num_layers_decoder: 0,
+            edge_dim: 0,
+            tau: 0.0,
+            ..c.clone()
+        };
+        decoder_free(self) == decoder_free(other)
+    }
+
     /// Checks the sizes fit together; the message names the offending field.
     pub fn validate(&self) -> Result<(), String> {
         let positive = [

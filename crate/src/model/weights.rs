@@ -265,6 +265,17 @@ pub fn load_module<M: Module>(
     map: &TensorMap,
     ignore: &dyn Fn(&str) -> bool,
 ) -> Result<M, WeightsError> {
+    load_module_keeping(module, map, ignore, &|_| false)
+}
+
+/// [`load_module`], except that parameters for which `keep` returns true may be absent from
+/// `map`: those keep the values `module` already has (its initialisation).
+pub fn load_module_keeping<M: Module>(
+    module: M,
+    map: &TensorMap,
+    ignore: &dyn Fn(&str) -> bool,
+    keep: &dyn Fn(&str) -> bool,
+) -> Result<M, WeightsError> {
     let mut loader = Loader {
         path: ModulePath::default(),
         map,
@@ -276,6 +287,7 @@ pub fn load_module<M: Module>(
     if let Some(e) = loader.error {
         return Err(e);
     }
+    loader.missing.retain(|name| !keep(name));
     if !loader.missing.is_empty() {
         return Err(WeightsError::Missing(loader.missing));
     }

@@ -15,8 +15,8 @@ use crate::data::shards::{ShardsError, load_split};
 use crate::device::{BackendKind, machine_description};
 use crate::model::{MeshVae, TensorMap, WeightsError, load_module};
 use crate::pipeline::shipped::{
-    DitManifest, Provenance, ShippedError, VaeManifest, load_dit, load_vae, load_vae_dir,
-    read_shipped, sha256_hex, write_weights,
+    DitManifest, Provenance, ShippedError, VaeManifest, is_encoder_side, load_dit, load_vae,
+    load_vae_dir, read_shipped, sha256_hex, write_weights,
 };
 use crate::train::dit::{DitTrainConfig, LatentExample, encode_latents, train_dit};
 use crate::train::vae::{VaeTrainConfig, latent_statistics, train_vae_from};
@@ -159,14 +159,25 @@ impl VaeRun {
                 let (manifest_bytes, bytes) = read_shipped(dir, "vae").map_err(shipped(dir))?;
                 let (_, manifest) = load_vae(&manifest_bytes, &bytes, device)
                     .map_err(|e| RunError::BadInput(format!("--init {}: {e}", dir.display())))?;
-                if manifest.model != config.model {
+                let mut map = TensorMap::from_safetensors(&bytes, "")?;
+                if config.decoder_only && manifest.model.same_encoder(&config.model) {
+                    // A decoder of another size on the same encoder starts afresh.
+                    if manifest.model != config.model {
+                        map.tensors.retain(|name, _| is_encoder_side(name));
+                    }
+                } else if manifest.model != config.model {
                     return Err(RunError::BadInput(format!(
                         "--init {}: its VAE configuration differs from the training \
-                         configuration's",
-                        dir.display()
+                         configuration's{}",
+                        dir.display(),
+                        if config.decoder_only {
+                            " in the encoder"
+                        } else {
+                            ""
+                        }
                     )));
                 }
-                Some((TensorMap::from_safetensors(&bytes, "")?, manifest))
+                Some((map, manifest))
             }
             None if config.decoder_only => {
                 return Err(RunError::BadInput(

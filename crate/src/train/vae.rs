@@ -27,7 +27,7 @@ use crate::data::augment::{AugmentOptions, augment_mesh};
 use crate::eval::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
 use crate::model::tokens::{VertexTokens, build_tokens};
-use crate::model::weights::{TensorMap, WeightsError, load_module};
+use crate::model::weights::{TensorMap, WeightsError, load_module, load_module_keeping};
 use crate::model::{MeshVae, Posterior, Trace, VaeConfig, seeded_init, spacetime_distances};
 use crate::pipeline::shipped::is_encoder_side;
 use crate::rng::Rng;
@@ -725,7 +725,8 @@ pub fn train_vae(
 /// [`train_vae`] starting from `init` (trained weights of the same configuration) instead of
 /// a seeded initialisation; a `decoder_only` configuration needs it. With `decoder_only` the
 /// returned weights' encoder side is `init`'s, bit for bit (the EMA of a constant could
-/// otherwise drift by rounding).
+/// otherwise drift by rounding), and `init` may hold the encoder side alone: the decoder then
+/// starts from the seeded initialisation (a decoder of another size on the same latents).
 pub fn train_vae_from(
     cfg: &VaeTrainConfig,
     init: Option<&TensorMap>,
@@ -752,7 +753,11 @@ pub fn train_vae_from(
     let ad_device = device.clone().autodiff();
     let mut vae = seeded_init(MeshVae::new(&cfg.model, &ad_device), cfg.seed);
     if let Some(init) = init {
-        vae = load_module(vae, init, &|_| false).map_err(TrainError::Weights)?;
+        // A decoder-only run may start a decoder of another size: `init` then holds the
+        // encoder side alone, and the decoder starts from the seeded initialisation.
+        let fresh_decoder = |name: &str| cfg.decoder_only && !is_encoder_side(name);
+        vae = load_module_keeping(vae, init, &|_| false, &fresh_decoder)
+            .map_err(TrainError::Weights)?;
     }
     let mut task = VaeTask {
         cfg,
