@@ -27,7 +27,7 @@ use crate::data::augment::{AugmentOptions, augment_mesh};
 use crate::eval::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
 use crate::model::tokens::{VertexTokens, build_tokens};
-use crate::model::weights::{TensorMap, WeightsError, load_module, load_module_keeping};
+use crate::model::weights::{TensorMap, WeightsError, load_module_keeping};
 use crate::model::{MeshVae, Posterior, Trace, VaeConfig, seeded_init, spacetime_distances};
 use crate::pipeline::shipped::is_encoder_side;
 use crate::rng::Rng;
