@@ -269,6 +269,26 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
     }
 }
 
+/// The whole small VAE trained for 60 steps on [`meshes`]: the weights decoder-only runs
+/// start from.
+fn trained_base(dir: &str) -> meshflow::model::TensorMap {
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let data = meshes();
+    train_vae(
+        &small_config(60),
+        &data,
+        &data,
+        &temp_dir(dir),
+        &Device::flex(),
+        &mut quiet,
+    )
+    .unwrap()
+    .weights
+}
+
 /// A decoder-only run starts from trained weights, keeps the encoder side bit for bit (so a DiT
 /// trained on its latents still fits: the latent-space identity is unchanged), lowers the
 /// validation loss of the decoder, and refuses to start without weights to start from.
@@ -276,23 +296,12 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
 fn decoder_only_training_keeps_the_latent_space() {
     use meshflow::pipeline::shipped::{is_encoder_side, latent_space_sha256};
     use meshflow::train::vae::train_vae_from;
-    let device = Device::flex();
-    let data = meshes();
+    let (device, data) = (Device::flex(), meshes());
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let base = small_config(60);
-    let first = train_vae(
-        &base,
-        &data,
-        &data,
-        &temp_dir("dec-base"),
-        &device,
-        &mut quiet,
-    )
-    .unwrap()
-    .weights;
+    let first = trained_base("dec-base");
     let mut cfg = small_config(60);
     cfg.decoder_only = true;
     cfg.seed = 3;
@@ -332,23 +341,13 @@ fn decoder_only_training_can_start_a_decoder_of_another_size() {
     use meshflow::model::TensorMap;
     use meshflow::pipeline::shipped::is_encoder_side;
     use meshflow::train::vae::train_vae_from;
-    let device = Device::flex();
-    let data = meshes();
+    let (device, data) = (Device::flex(), meshes());
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
     let base = small_config(60);
-    let first = train_vae(
-        &base,
-        &data,
-        &data,
-        &temp_dir("wide-base"),
-        &device,
-        &mut quiet,
-    )
-    .unwrap()
-    .weights;
+    let first = trained_base("wide-base");
     let mut cfg = small_config(60);
     cfg.decoder_only = true;
     cfg.model.width_decoder *= 2;
