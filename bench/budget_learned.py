@@ -5,7 +5,7 @@
     python3 bench/budget_learned.py [SHARDS] [-o bench/budget_learned.json]
 
 Reads the training and validation shards directly (SHARDS, default
-~/.cache/meshflow/data/shards), keeps meshes of at most 512 vertices (the ones the VAE takes),
+~/.cache/meshflow/data/shards; bench/shards.py), keeps meshes of at most 512 vertices (the ones the VAE takes),
 samples 4,096 area-weighted surface points from each, as `meshflow eval generate` conditions on,
 puts them in the model frame (longest side spans [-1, 1]) and describes each cloud by:
 - the shipped rule's two features (ln occupied cells of the 32^3 grid, 16-neighbour surface
@@ -17,26 +17,14 @@ It fits ln V on the training meshes and reports R^2 and the median |log error| o
 validation meshes for: the shipped rule refitted; ridge regression on all features; and
 k-nearest-neighbour regression on the standardised descriptor (how far "shapes like this one"
 predict the count). Needs numpy and scipy."""
-import json, os, struct, sys, numpy as np
+import json, os, sys, numpy as np
 from scipy.spatial import cKDTree
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from shards import meshes
 
 SHARDS = os.path.expanduser(sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith('-') else '~/.cache/meshflow/data/shards')
 OUT = sys.argv[sys.argv.index('-o') + 1] if '-o' in sys.argv else None
 POINTS, MAX_V = 4096, 512
-
-def read_shard(path):
-    with open(path, 'rb') as f:
-        n = struct.unpack('<Q', f.read(8))[0]; header = json.loads(f.read(n)); base = 8 + n
-        data = f.read()
-    dt = {'U64': np.uint64, 'U32': np.uint32, 'F32': np.float32}
-    t = {}
-    for k, v in header.items():
-        if k == '__metadata__': continue
-        a, b = v['data_offsets']
-        t[k] = np.frombuffer(data[a:b], dtype=dt[v['dtype']]).reshape(v['shape'])
-    vo, fo = t['vertex_offsets'].astype(np.int64), t['face_offsets'].astype(np.int64)
-    for i in range(len(vo) - 1):
-        yield t['positions'][vo[i]:vo[i + 1]].astype(np.float64), t['faces'][fo[i]:fo[i + 1]].astype(np.int64)
 
 def surface_points(v, f, rng):
     tri = v[f]; area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
@@ -60,13 +48,11 @@ def descriptor(p, rng):
 
 def load(split):
     rng = np.random.default_rng(0); rows = []
-    for name in sorted(os.listdir(SHARDS)):
-        if not (name.startswith(split + '-') and name.endswith('.safetensors')): continue
-        for v, f in read_shard(os.path.join(SHARDS, name)):
-            if len(v) > MAX_V or len(f) == 0: continue
-            p = surface_points(v, f, rng)
-            if p is None: continue
-            rows.append((np.log(len(v)),) + descriptor(p, rng))
+    for _, v, f in meshes(SHARDS, (split,), MAX_V):
+        if len(f) == 0: continue
+        p = surface_points(v.astype(np.float64), f.astype(np.int64), rng)
+        if p is None: continue
+        rows.append((np.log(len(v)),) + descriptor(p, rng))
     y = np.array([r[0] for r in rows]); shipped = np.array([[r[1], r[2]] for r in rows]); desc = np.array([r[3] for r in rows])
     return y, shipped, desc
 

@@ -2,12 +2,10 @@
 training reads), small enough to carry to a lent GPU machine:
 `python3 compact_data.py SHARDS OUT` (SHARDS: ~/.cache/meshflow/data/shards)."""
 import json, shutil, struct, sys, os, numpy as np
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
+from shards import meshes, shard_metadata
 src, dst = sys.argv[1], sys.argv[2]
 os.makedirs(dst, exist_ok=True)
-def read(path):
-    b = open(path, 'rb').read(); n = struct.unpack('<Q', b[:8])[0]; h = json.loads(b[8:8+n]); base = 8+n
-    dt = {'F32': np.float32, 'U32': np.uint32, 'U64': np.uint64}
-    return {k: np.frombuffer(b[base+v['data_offsets'][0]:base+v['data_offsets'][1]], dtype=dt[v['dtype']]).reshape(v['shape']) for k, v in h.items() if k != '__metadata__'}, h['__metadata__']
 def write(path, t, meta):
     names = {np.dtype(np.float32): 'F32', np.dtype(np.uint32): 'U32', np.dtype(np.uint64): 'U64'}
     h = {'__metadata__': meta}; off = 0; blobs = []
@@ -16,17 +14,12 @@ def write(path, t, meta):
     hb = json.dumps(h).encode(); hb += b' ' * ((8 - len(hb) % 8) % 8)
     with open(path, 'wb') as f:
         f.write(struct.pack('<Q', len(hb))); f.write(hb); [f.write(x) for x in blobs]
-entries = [json.loads(l) for l in open(f'{src}/manifest.jsonl')]
-keep = [e for e in entries if e['split'] in ('train', 'val') and e['vertices'] <= 512]
-shards = {}
 out = {'train': {'pos': [], 'faces': [], 'vo': [0], 'fo': [0]}, 'val': {'pos': [], 'faces': [], 'vo': [0], 'fo': [0]}}
 new_entries = []
-for e in keep:
-    if e['shard'] not in shards: shards[e['shard']] = read(f"{src}/{e['shard']}")
-    (t, meta) = shards[e['shard']]; i = e['index']
-    p = t['positions'][t['vertex_offsets'][i]:t['vertex_offsets'][i+1]]; f = t['faces'][t['face_offsets'][i]:t['face_offsets'][i+1]]
+for e, p, f in meshes(src, ('train', 'val'), 512):
     o = out[e['split']]; e = dict(e); e['shard'] = f"{e['split']}-00000.safetensors"; e['index'] = len(o['vo']) - 1
     o['pos'].append(p); o['faces'].append(f); o['vo'].append(o['vo'][-1] + len(p)); o['fo'].append(o['fo'][-1] + len(f)); new_entries.append(e)
+meta = shard_metadata(os.path.join(src, json.loads(open(f'{src}/manifest.jsonl').readline())['shard']))
 for s, o in out.items():
     write(f'{dst}/{s}-00000.safetensors', {'positions': np.concatenate(o['pos']), 'faces': np.concatenate(o['faces']), 'vertex_offsets': np.array(o['vo'], np.uint64), 'face_offsets': np.array(o['fo'], np.uint64)}, meta)
 with open(f'{dst}/manifest.jsonl', 'w') as f:
