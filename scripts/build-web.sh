@@ -6,15 +6,17 @@
 #    WebGPU alone) and `web` (meshflow_cpu: the CPU path, the smaller download);
 # 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
 #    with `--target web` into web/pkg/;
-# 3. shrinks each with npm binaryen@132's `wasm-opt -Oz` (Debian's binaryen 108 corrupts
-#    this module; docs/design.md section 6);
+# 3. in the WebGPU module, replaces the matmul kernels WebGPU can never launch with `unreachable`
+#    (scripts/snip-wasm.mjs; see SNIP below), then shrinks each module with npm binaryen@132's
+#    `wasm-opt -Oz` (Debian's binaryen 108 corrupts this module; docs/design.md section 6);
 # 4. writes the half-size (f16) weights the page and npm package download by default
 #    (scripts/half-weights.mjs: weights/ -> weights/f16/);
 # 5. prints both modules' sizes, raw and gzipped.
 #
 # Size flags (BENCHMARKS.md "Browser module"): `-Z location-detail=none` drops the file and
-# line of each panic site. It is an unstable flag, so the stable compiler is told to accept it
-# (RUSTC_BOOTSTRAP=1, for these two commands only): the nightly here has no wasm32 standard
+# line of each panic site (`-Z merge-functions=disabled`: see SNIP below). They are unstable
+# flags, so the stable compiler is told to accept them (RUSTC_BOOTSTRAP=1, for these two
+# commands only): the nightly here has no wasm32 standard
 # library, and the pinned stable compiler keeps its meaning fixed. Not `-Z fmt-debug=none`:
 # cubecl writes WGSL float literals with `{:?}`, which that flag turns into nothing.
 # `--low-memory-unused` lets wasm-opt fold addresses below 1 KiB, which Rust's wasm32 layout
@@ -45,16 +47,34 @@ fi
 # CPU backend) and meshflow_cpu (the CPU path, without cubecl's kernels). The npm package
 # loads the CPU module wherever the CPU path is the faster one (no adapter, a software one)
 # and where WebGPU fails to start; the WebGPU module leaves it out (7% of its bytes).
+# SNIP: burn-cubecl turns on cubek-matmul's `tiled` routines, and Cargo cannot turn a
+# dependency's feature off, so their kernels are linked (a megabyte of code before wasm-opt).
+# Neither can run here: cubek-matmul sends a matmul to `tiled::cmma` only when an operand is
+# stored in tiles (nothing in Burn's tensor API makes one; only burn-cubecl's own tests do), and
+# burn-cubecl's autotuner offers `tiled::cpu_gemm` only on a CPU runtime (its `cpu` group).
+# Were one reached, it would trap with "unreachable" (never a wrong mesh), which the browser
+# tests' wasm-native equality check would catch. Snipping by name needs every generic instance
+# to keep its own body: LLVM otherwise merges identical instances (say a tile view over the
+# tiled kernel's element type and the same view over the multi-level one's) under one name, and
+# snipping that name broke the multi-level matmul. Hence `-Z merge-functions=disabled` (also
+# unstable, so also under RUSTC_BOOTSTRAP=1); wasm-opt merges the duplicates that remain after
+# the snip. BENCHMARKS.md "Browser module".
+SNIP=('::tiled::(cmma|cpu_gemm)::kernel::')
+
 build_module() {
-    local name="$1"
-    shift
+    local name="$1" snip="$2"
+    shift 2
     log "compiling $name ($*, profile wasm-release)"
     RUSTC_BOOTSTRAP=1 cargo rustc -p meshflow --profile wasm-release \
         --target wasm32-unknown-unknown "$@" --crate-type cdylib \
-        --config 'target.wasm32-unknown-unknown.rustflags = ["-Zlocation-detail=none"]'
+        --config 'target.wasm32-unknown-unknown.rustflags = ["-Zlocation-detail=none", "-Zmerge-functions=disabled"]'
     local wasm="$CARGO_TARGET_DIR/wasm32-unknown-unknown/wasm-release/meshflow.wasm"
     log "wasm-bindgen --target web -> $OUT/$name.js"
     wasm-bindgen --target web --out-dir "$OUT" --out-name "$name" "$wasm"
+    if [[ "$snip" == snip ]]; then
+        log "snip-wasm $name: ${SNIP[*]}"
+        node scripts/snip-wasm.mjs "$OUT/${name}_bg.wasm" "$OUT/${name}_bg.wasm" "${SNIP[@]}"
+    fi
     log "wasm-opt -Oz $name"
     node_modules/.bin/wasm-opt -Oz --low-memory-unused --enable-bulk-memory \
         --enable-nontrapping-float-to-int --enable-sign-ext --enable-mutable-globals \
@@ -62,8 +82,8 @@ build_module() {
     mv "$OUT/${name}_bg.opt.wasm" "$OUT/${name}_bg.wasm"
 }
 mkdir -p "$OUT"
-build_module meshflow --no-default-features --features web,wgpu
-build_module meshflow_cpu --features web
+build_module meshflow snip --no-default-features --features web,wgpu
+build_module meshflow_cpu no-snip --features web
 
 log "half-size weights for the browser -> weights/f16/"
 node scripts/half-weights.mjs weights weights/f16

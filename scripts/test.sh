@@ -13,6 +13,7 @@
 #   cargo clippy --workspace --all-targets -- -D warnings
 #   cargo doc --no-deps -p meshflow --features train,data-build
 #             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
+#   node tests/snip-wasm.test.mjs          (the wasm snipping tool build-web.sh uses)
 #   bash scripts/build-web.sh              (the two wasm modules, into web/pkg/)
 #   cargo clippy --target wasm32-unknown-unknown -p meshflow [--no-default-features] --features web[,wgpu]
 #                --profile wasm-release -- -D warnings
@@ -134,6 +135,9 @@ check_docs() {
     RUSTDOCFLAGS="-D rustdoc::broken_intra_doc_links" cargo doc --no-deps -p meshflow --features train,data-build
 }
 
+# The build tool's own test comes first: build-web.sh relies on it.
+run_snip_tests() { node tests/snip-wasm.test.mjs 2>&1 | tee "$LOG_DIR/snip-wasm.log"; }
+
 build_web() { bash scripts/build-web.sh; }
 
 # The wasm-only modules are invisible to the native clippy run above; both browser modules
@@ -160,7 +164,7 @@ tally() {
                     if ($(i+1) ~ /^ignored/) s += $i
                 }
              }
-             /^browser: [0-9]+ passed, [0-9]+ failed/ { p += $2; f += $4 }
+             /^(browser|snip-wasm): [0-9]+ passed, [0-9]+ failed/ { p += $2; f += $4 }
              END { printf "%d passed, %d failed, %d skipped\n", p, f, s }'
 }
 
@@ -228,6 +232,7 @@ main() {
     run_step doctest run_doctests
     run_step clippy check_clippy
     run_step docs check_docs
+    run_step snip-wasm run_snip_tests
     run_step web build_web
     run_step clippy-wasm check_clippy_wasm
     run_step browser run_browser_tests
