@@ -1,0 +1,63 @@
+"""Does more DiT training close the generation gap of the 64-wide VAE? Flow loss on validation
+against training step, and the generated validation CD (12 candidates of 7 steps, `meshflow eval
+generate --split val`) at each checkpoint that was evaluated, for:
+
+- the 64-wide DiT: dit.* (10,000 steps at lr 3e-4), then dit_continued.* (4,000 more at 1e-4),
+  then dit_continued2.* (10,000 more at 1e-4), each stage started from the last one's weights;
+- the shipped 32-wide DiT (bench/training/dit.metrics.jsonl), and the same continued 4,000 steps
+  at 1e-4 (dit32_continued.*), the control for "more steps" on the shipped latents.
+
+`python3 bench/vae_latent64/plot_dit.py` writes dit_longer.png and prints the table. Flow losses of
+the two latent widths are not comparable with each other (different latent scales); the CDs are."""
+import json, os
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+TRAINING = os.path.join(HERE, '..', 'training')
+
+
+def val_losses(stages):
+    """(step, val_loss) of consecutive stages, each stage's steps counted on from the last."""
+    rows, offset = [], 0
+    for path in stages:
+        stage = [json.loads(l) for l in open(path) if 'val_loss' in l]
+        rows += [(offset + r['step'], r['val_loss']) for r in stage]
+        offset += max(json.loads(l)['step'] for l in open(path))
+    return rows
+
+
+def cd(name):
+    return json.load(open(os.path.join(HERE, name)))['all']['ours']['chamfer_x100']
+
+
+ARMS = {
+    'latent_dim 64': dict(
+        stages=[os.path.join(HERE, f) for f in
+                ('dit.metrics.jsonl', 'dit_continued.metrics.jsonl', 'dit_continued2.metrics.jsonl')],
+        evals=[(10_000, 'generate_eval_val.json'), (14_000, 'generate_eval_val_dit_continued.json'),
+               (24_000, 'generate_eval_val_dit_continued2.json')]),
+    'latent_dim 32 (shipped)': dict(
+        stages=[os.path.join(TRAINING, 'dit.metrics.jsonl'), os.path.join(HERE, 'dit32_continued.metrics.jsonl')],
+        evals=[(10_000, 'generate_eval_val_shipped.json'), (14_000, 'generate_eval_val_dit32_continued.json')]),
+}
+
+fig, (ax_loss, ax_cd) = plt.subplots(1, 2, figsize=(12, 4.4))
+print('| DiT | steps | flow val loss | generated val CD x100 | holes |')
+print('|---|---:|---:|---:|---:|')
+for name, arm in ARMS.items():
+    losses = val_losses(arm['stages'])
+    ax_loss.plot(*zip(*losses), label=name, lw=1.4)
+    points = [(step, json.load(open(os.path.join(HERE, f)))['all']['ours']) for step, f in arm['evals']]
+    ax_cd.plot([s for s, _ in points], [o['chamfer_x100'] for s, o in points], 'o-', label=name)
+    loss_at = dict(losses)
+    for step, ours in points:
+        print(f"| {name} | {step:,} | {loss_at.get(step, float('nan')):.4f} | {ours['chamfer_x100']:.3f} | {ours['holes']:.2f} |")
+for ax in (ax_loss, ax_cd):
+    ax.set_xlabel('DiT training step (batch 16)'); ax.grid(alpha=.3); ax.legend()
+    for boundary in (10_000, 14_000):
+        ax.axvline(boundary, color='grey', lw=0.8, ls=':')
+ax_loss.set_title('flow-matching loss, validation'); ax_loss.set_yscale('log')
+ax_cd.set_title('generated CD x100, validation (lower is better)')
+fig.tight_layout(); fig.savefig(os.path.join(HERE, 'dit_longer.png'), dpi=110)
