@@ -47,6 +47,7 @@ fi
 # CPU backend) and meshflow_cpu (the CPU path, without cubecl's kernels). The npm package
 # loads the CPU module wherever the CPU path is the faster one (no adapter, a software one)
 # and where WebGPU fails to start; the WebGPU module leaves it out (7% of its bytes).
+
 # SNIP: burn-cubecl turns on cubek-matmul's `tiled` routines, and Cargo cannot turn a
 # dependency's feature off, so their kernels are linked (a megabyte of code before wasm-opt).
 # Neither can run here: cubek-matmul sends a matmul to `tiled::cmma` only when an operand is
