@@ -4,7 +4,8 @@
 //
 //     node scripts/snip-wasm.mjs IN.wasm OUT.wasm REGEX...
 //
-// The module must still carry its name section (wasm-bindgen keeps it; wasm-opt drops it). The
+// The module must still carry its name section (wasm-bindgen keeps it, and so does this script;
+// wasm-opt drops it). The
 // wasm features it is written with are the ones its target_features section declares, as read:
 // forcing more (say binaryen's `All`) writes encodings that browsers reject.
 // Fails, writing nothing, when no function matches: a dependency that renamed what the
@@ -41,7 +42,14 @@ export function snipFunctions(bytes, patterns) {
                     '(renamed by a dependency update, or the name section is missing)',
             );
         }
-        return { bytes: module.emitBinary(), snipped };
+        // Names are kept, so the output can be snipped again or read in a debugger.
+        const debugInfo = binaryen.getDebugInfo();
+        binaryen.setDebugInfo(true);
+        try {
+            return { bytes: module.emitBinary(), snipped };
+        } finally {
+            binaryen.setDebugInfo(debugInfo);
+        }
     } finally {
         module.dispose();
     }
@@ -61,7 +69,8 @@ function main(argv) {
     console.log(`snip-wasm: ${snipped.length} functions replaced by unreachable`);
 }
 
-if (process.argv[1] === fileURLToPath(import.meta.url)) {
+// Run as a command, also through a symlinked path (import.meta.url has symlinks resolved).
+if (process.argv[1] && fs.realpathSync(process.argv[1]) === fileURLToPath(import.meta.url)) {
     try {
         main(process.argv.slice(2));
     } catch (err) {

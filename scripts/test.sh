@@ -21,8 +21,8 @@
 #   node tests/e2e/browser.test.mjs        (the page and the npm package in
 #                                           headless Chromium over SwiftShader)
 # Each step prints its time; the last line is a plain
-# "summary: N passed, N failed, N skipped" tally of the cargo and browser
-# test results.
+# "summary: N passed, N failed, N skipped" tally of the cargo, snip-wasm and
+# browser test results.
 #
 # Builds go to ${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target} so that
 # repeated runs, and scripts/demo.sh, reuse one build. Tests run in the release

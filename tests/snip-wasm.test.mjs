@@ -23,20 +23,46 @@ function fixture() {
     m.addFunction('pick_cpu', i32, i32, [], m.call('cube::cpu_kernel', [x()], i32));
     m.addFunction('keep', i32, i32, [], m.i32.add(x(), m.i32.const(1)));
     for (const name of ['cube::gpu_kernel', 'pick_cpu', 'keep']) m.addFunctionExport(name, name);
+    // Declared features, written as rustc writes them: the snip must keep exactly these.
+    m.setFeatures(binaryen.Features.MutableGlobals | binaryen.Features.SignExt);
+    const section = [2];
+    for (const name of ['mutable-globals', 'sign-ext']) section.push(0x2b, name.length, ...new TextEncoder().encode(name));
+    m.addCustomSection('target_features', new Uint8Array(section));
     assert.ok(m.validate());
     // The name section is what the patterns match against, as in wasm-bindgen's output.
+    const debugInfo = binaryen.getDebugInfo();
     binaryen.setDebugInfo(true);
     try {
         return m.emitBinary();
     } finally {
-        binaryen.setDebugInfo(false);
+        binaryen.setDebugInfo(debugInfo);
         m.dispose();
     }
+}
+
+// The features a module declares in its target_features section, e.g. ['+mutable-globals'].
+function declaredFeatures(bytes) {
+    const [section] = WebAssembly.Module.customSections(new WebAssembly.Module(bytes), 'target_features');
+    if (!section) return [];
+    const b = new Uint8Array(section);
+    const features = [];
+    let p = 1; // the count is below 128 here: one byte
+    for (let i = 0; i < b[0]; i++) {
+        const prefix = String.fromCharCode(b[p]);
+        const len = b[p + 1];
+        features.push(prefix + new TextDecoder().decode(b.slice(p + 2, p + 2 + len)));
+        p += 2 + len;
+    }
+    return features.sort();
 }
 
 async function run(bytes) {
     const { instance } = await WebAssembly.instantiate(bytes, { env: { log() {} } });
     return instance.exports;
+}
+
+function runSync(bytes) {
+    return new WebAssembly.Instance(new WebAssembly.Module(bytes), { env: { log() {} } }).exports;
 }
 
 const checks = [];
@@ -51,6 +77,15 @@ check('a snipped function traps; the others compute as before', async () => {
     assert.equal(after.keep(5), 6);
     assert.equal(after['cube::gpu_kernel'](5), 10);
     assert.throws(() => after.pick_cpu(5), (e) => e instanceof WebAssembly.RuntimeError && /unreachable/.test(e.message));
+});
+
+check('the module keeps its declared features and its names', async () => {
+    const input = fixture();
+    assert.deepEqual(declaredFeatures(input), ['+mutable-globals', '+sign-ext']);
+    const { bytes } = snipFunctions(input, ['cpu_kernel']);
+    assert.deepEqual(declaredFeatures(bytes), ['+mutable-globals', '+sign-ext']);
+    // With its names kept, the output can be snipped again.
+    assert.deepEqual(snipFunctions(bytes, ['gpu_kernel']).snipped, ['cube::gpu_kernel']);
 });
 
 check('several patterns; imports are never touched', async () => {
@@ -78,7 +113,16 @@ check('the command writes nothing when it fails, and the module when it succeeds
         const hit = spawnSync(process.execPath, [script, input, output, 'cpu_kernel'], { encoding: 'utf8' });
         assert.equal(hit.status, 0, hit.stderr);
         assert.match(hit.stdout, /1 functions replaced/);
-        assert.equal((await run(fs.readFileSync(output))).keep(2), 3);
+        const written = await run(fs.readFileSync(output));
+        assert.equal(written.keep(2), 3);
+        assert.throws(() => written.pick_cpu(2), /unreachable/);
+        // In place, as scripts/build-web.sh runs it, and through a symlinked path.
+        const link = path.join(dir, 'snip-link.mjs');
+        fs.symlinkSync(script, link);
+        const inPlace = spawnSync(process.execPath, [link, input, input, 'cpu_kernel'], { encoding: 'utf8' });
+        assert.equal(inPlace.status, 0, inPlace.stderr);
+        assert.throws(() => runSync(fs.readFileSync(input)).pick_cpu(2), /unreachable/);
+        assert.deepEqual(fs.readdirSync(dir).sort(), ['in.wasm', 'out.wasm', 'snip-link.mjs']);
     } finally {
         fs.rmSync(dir, { recursive: true, force: true });
     }
