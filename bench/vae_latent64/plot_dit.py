@@ -7,7 +7,9 @@ generate --split val`) at each checkpoint that was evaluated, for:
 - the shipped 32-wide DiT (bench/training/dit.metrics.jsonl), and the same continued 4,000 steps
   at 1e-4 (dit32_continued.*), the control for "more steps" on the shipped latents.
 
-`python3 bench/vae_latent64/plot_dit.py` writes dit_longer.png and prints the table. Flow losses of
+Each CD is `meshflow eval generate --split val` at seed 0 and, where a `*_seed1.json` file
+exists, again with `--seed 1` (the same weights, other sampling noise): the spread between
+the two is the noise of one evaluation. `python3 bench/vae_latent64/plot_dit.py` writes dit_longer.png and prints the table. Flow losses of
 the two latent widths are not comparable with each other (different latent scales); the CDs are."""
 import json, os
 import matplotlib
@@ -28,8 +30,13 @@ def val_losses(stages):
     return rows
 
 
-def cd(name):
-    return json.load(open(os.path.join(HERE, name)))['all']['ours']['chamfer_x100']
+def ours(name):
+    return json.load(open(os.path.join(HERE, name)))['all']['ours']
+
+
+def seed1(name):
+    """The same evaluation with `--seed 1`: the sampling noise, not the weights, differs."""
+    return name.replace('.json', '_seed1.json')
 
 
 ARMS = {
@@ -44,20 +51,27 @@ ARMS = {
 }
 
 fig, (ax_loss, ax_cd) = plt.subplots(1, 2, figsize=(12, 4.4))
-print('| DiT | steps | flow val loss | generated val CD x100 | holes |')
-print('|---|---:|---:|---:|---:|')
+print('| DiT | steps | flow val loss | val CD x100, seed 0 / 1 | mean | holes, seed 0 / 1 |')
+print('|---|---:|---:|---|---:|---|')
 for name, arm in ARMS.items():
     losses = val_losses(arm['stages'])
     ax_loss.plot(*zip(*losses), label=name, lw=1.4)
-    points = [(step, json.load(open(os.path.join(HERE, f)))['all']['ours']) for step, f in arm['evals']]
-    ax_cd.plot([s for s, _ in points], [o['chamfer_x100'] for s, o in points], 'o-', label=name)
     loss_at = dict(losses)
-    for step, ours in points:
-        print(f"| {name} | {step:,} | {loss_at.get(step, float('nan')):.4f} | {ours['chamfer_x100']:.3f} | {ours['holes']:.2f} |")
+    steps, means = [], []
+    for step, f in arm['evals']:
+        # Seed 0 is the file named in ARMS; a second sampling seed, where run, beside it.
+        seeds = [ours(f)] + ([ours(seed1(f))] if os.path.exists(os.path.join(HERE, seed1(f))) else [])
+        cds = [o['chamfer_x100'] for o in seeds]
+        steps.append(step); means.append(sum(cds) / len(cds))
+        ax_cd.scatter([step] * len(cds), cds, s=12, color='grey', zorder=3)
+        cd_text = ' / '.join(f'{c:.3f}' for c in cds)
+        holes_text = ' / '.join(f"{o['holes']:.2f}" for o in seeds)
+        print(f"| {name} | {step:,} | {loss_at.get(step, float('nan')):.4f} | {cd_text} | {means[-1]:.3f} | {holes_text} |")
+    ax_cd.plot(steps, means, 'o-', label=f'{name}, mean over seeds')
 for ax in (ax_loss, ax_cd):
     ax.set_xlabel('DiT training step (batch 16)'); ax.grid(alpha=.3); ax.legend()
     for boundary in (10_000, 14_000):
         ax.axvline(boundary, color='grey', lw=0.8, ls=':')
 ax_loss.set_title('flow-matching loss, validation'); ax_loss.set_yscale('log')
-ax_cd.set_title('generated CD x100, validation (lower is better)')
+ax_cd.set_title('generated CD x100, validation (grey: each sampling seed)')
 fig.tight_layout(); fig.savefig(os.path.join(HERE, 'dit_longer.png'), dpi=110)
