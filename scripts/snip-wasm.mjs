@@ -5,9 +5,9 @@
 //     node scripts/snip-wasm.mjs IN.wasm OUT.wasm REGEX...
 //
 // The module must still carry its name section (wasm-bindgen keeps it, and so does this script;
-// wasm-opt drops it). The
-// wasm features it is written with are the ones its target_features section declares, as read:
-// forcing more (say binaryen's `All`) writes encodings that browsers reject.
+// wasm-opt drops it). The wasm features it is written with are the ones its target_features
+// section declares, as read: forcing more (say binaryen's `All`) writes encodings that browsers
+// reject.
 // Fails, writing nothing, when no function matches: a dependency that renamed what the
 // patterns name would otherwise silently bring the code back.
 //

@@ -56,12 +56,8 @@ function declaredFeatures(bytes) {
     return features.sort();
 }
 
-async function run(bytes) {
-    const { instance } = await WebAssembly.instantiate(bytes, { env: { log() {} } });
-    return instance.exports;
-}
-
-function runSync(bytes) {
+// The module's exports, instantiated synchronously (the fixture is tiny).
+function run(bytes) {
     return new WebAssembly.Instance(new WebAssembly.Module(bytes), { env: { log() {} } }).exports;
 }
 
@@ -69,11 +65,11 @@ const checks = [];
 const check = (name, fn) => checks.push([name, fn]);
 
 check('a snipped function traps; the others compute as before', async () => {
-    const before = await run(fixture());
+    const before = run(fixture());
     assert.equal(before.pick_cpu(5), 15);
     const { bytes, snipped } = snipFunctions(fixture(), ['::cpu_kernel$']);
     assert.deepEqual(snipped, ['cube::cpu_kernel']);
-    const after = await run(bytes);
+    const after = run(bytes);
     assert.equal(after.keep(5), 6);
     assert.equal(after['cube::gpu_kernel'](5), 10);
     assert.throws(() => after.pick_cpu(5), (e) => e instanceof WebAssembly.RuntimeError && /unreachable/.test(e.message));
@@ -91,7 +87,7 @@ check('the module keeps its declared features and its names', async () => {
 check('several patterns; imports are never touched', async () => {
     const { bytes, snipped } = snipFunctions(fixture(), [/^cube::/, 'host_log']);
     assert.deepEqual(snipped.sort(), ['cube::cpu_kernel', 'cube::gpu_kernel']);
-    const after = await run(bytes);
+    const after = run(bytes);
     assert.equal(after.keep(1), 2);
 });
 
@@ -113,7 +109,7 @@ check('the command writes nothing when it fails, and the module when it succeeds
         const hit = spawnSync(process.execPath, [script, input, output, 'cpu_kernel'], { encoding: 'utf8' });
         assert.equal(hit.status, 0, hit.stderr);
         assert.match(hit.stdout, /1 functions replaced/);
-        const written = await run(fs.readFileSync(output));
+        const written = run(fs.readFileSync(output));
         assert.equal(written.keep(2), 3);
         assert.throws(() => written.pick_cpu(2), /unreachable/);
         // In place, as scripts/build-web.sh runs it, and through a symlinked path.
@@ -121,7 +117,7 @@ check('the command writes nothing when it fails, and the module when it succeeds
         fs.symlinkSync(script, link);
         const inPlace = spawnSync(process.execPath, [link, input, input, 'cpu_kernel'], { encoding: 'utf8' });
         assert.equal(inPlace.status, 0, inPlace.stderr);
-        assert.throws(() => runSync(fs.readFileSync(input)).pick_cpu(2), /unreachable/);
+        assert.throws(() => run(fs.readFileSync(input)).pick_cpu(2), /unreachable/);
         assert.deepEqual(fs.readdirSync(dir).sort(), ['in.wasm', 'out.wasm', 'snip-link.mjs']);
     } finally {
         fs.rmSync(dir, { recursive: true, force: true });
