@@ -10,22 +10,12 @@
 # interrupted; each logs to RUN/<stage>/train.log and RUN/<stage>/metrics.jsonl.
 set -euo pipefail
 
-ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-RUN="${1:?usage: scripts/train_vae.sh RUN [DATA]}"
-DATA=("${@:2:1}")
-export CARGO_TARGET_DIR="${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}"
+RUN="$(realpath -m "${1:?usage: scripts/train_vae.sh RUN [DATA]}")"
+DATA="${2:+$(realpath "$2")}"
+source "$(dirname "${BASH_SOURCE[0]}")/train_stages.sh"
 
-cd "$ROOT"
-cargo build --release -p meshflow-cli
-MESHFLOW="$CARGO_TARGET_DIR/release/meshflow"
-data_args=()
-[[ -n "${DATA[0]:-}" ]] && data_args=(--data "${DATA[0]}")
-
-mkdir -p "$RUN/base" "$RUN/decoder"
 if [[ ! -f "$RUN/base/vae.manifest.json" ]]; then
-    "$MESHFLOW" train vae -o "$RUN/base" --config weights/vae.train.json "${data_args[@]}" \
-        2>&1 | tee -a "$RUN/base/train.log"
+    stage "$RUN/base" train vae --config weights/vae.train.json
 fi
-"$MESHFLOW" train vae -o "$RUN/decoder" --config weights/vae.decoder.train.json \
-    --init "$RUN/base" "${data_args[@]}" 2>&1 | tee -a "$RUN/decoder/train.log"
+stage "$RUN/decoder" train vae --config weights/vae.decoder.train.json --init "$RUN/base"
 echo "[train_vae.sh] ship: cp $RUN/decoder/vae.{safetensors,json,manifest.json} weights/"

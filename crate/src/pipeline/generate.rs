@@ -119,8 +119,8 @@ pub struct GenerateOptions {
     pub faces: Option<usize>,
     /// Euler steps. The paper's default is 28; 7 is the default here, since one more
     /// candidate (`samples`) buys far more than more steps for the same time (7 steps of 12
-    /// candidates: test CD x100 4.45, 1.31 holes; 28 steps of one: 5.18, 3.85; BENCHMARKS.md,
-    /// "The default: 12 candidates of 7 steps").
+    /// candidates: test CD x100 4.45, 1.31 holes; 28 steps of one: 5.18, 3.85, with stop 29's
+    /// DiT; BENCHMARKS.md, "The default: 12 candidates of 7 steps").
     pub steps: usize,
     pub seed: u64,
     /// Candidates drawn per input, each from its own noise; the one kept lies closest to the

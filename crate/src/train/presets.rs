@@ -164,6 +164,27 @@ mod tests {
         assert_eq!(shipped, dit_ship(latents, dim));
     }
 
+    /// The training a shipped manifest records, read as a configuration.
+    fn recorded<T: serde::de::DeserializeOwned>(manifest: &str) -> T {
+        let text = std::fs::read_to_string(shipped(manifest)).unwrap();
+        let manifest: serde_json::Value = serde_json::from_str(&text).unwrap();
+        serde_json::from_value(manifest["training"].clone()).unwrap()
+    }
+
+    /// Both shipped models end with a second stage (`scripts/train_vae.sh`,
+    /// `scripts/train_dit.sh`): its file is the training the shipped manifest records, so the
+    /// scripts reproduce what ships.
+    #[test]
+    fn the_shipped_weights_were_trained_last_by_the_second_stage_configs() {
+        let decoder = vae_config(shipped("vae.decoder.train.json").to_str().unwrap()).unwrap();
+        assert_eq!(decoder, recorded::<VaeTrainConfig>("vae.manifest.json"));
+        let continued = dit_config(&shipped("dit.continue.train.json")).unwrap();
+        assert_eq!(continued, recorded::<DitTrainConfig>("dit.manifest.json"));
+        // The continuation keeps the first stage's model, so `--init` loads it.
+        let first = dit_config(&shipped("dit.train.json")).unwrap();
+        assert_eq!(continued.model, first.model);
+    }
+
     #[test]
     fn a_name_that_is_neither_preset_nor_file_says_so() {
         let e = vae_config("huge").unwrap_err();
