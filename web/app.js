@@ -272,6 +272,7 @@ $('generate').addEventListener('click', () => {
       fit: $('fit').checked,
       closeHoles: $('close-holes').checked,
       steps: num('steps'),
+      solver: $('solver').value,
       samples: num('samples'),
       seed: num('seed'),
       extraction: $('extraction').value,

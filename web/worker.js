@@ -41,6 +41,7 @@ self.onmessage = async ({ data }) => {
         fit: data.fit,
         closeHoles: data.closeHoles,
         steps: data.steps,
+        solver: data.solver,
         samples: data.samples,
         seed: data.seed,
         extraction: data.extraction,

@@ -103,7 +103,7 @@ fn schedules_match_reference() {
 
 #[test]
 fn sampling_can_be_cancelled_between_steps() {
-    use meshflow::model::sampler::{SampleError, sample};
+    use meshflow::model::sampler::{SampleError, Solver, sample};
     use meshflow::model::schedule::ScheduleMode;
     let device = Device::flex();
     let (_, dit) = load(&device);
@@ -118,6 +118,7 @@ fn sampling_can_be_cancelled_between_steps() {
         &rope,
         28,
         ScheduleMode::ToZero,
+        Solver::Heun,
         &mut |i, n, _| {
             assert_eq!(n, 28);
             seen = i;

@@ -18,6 +18,7 @@ use meshflow::eval::generation::{
 };
 use meshflow::eval::sets::eval_set;
 use meshflow::eval::summary::SurfaceSummary;
+use meshflow::model::sampler::Solver;
 use meshflow::model::schedule::ScheduleMode;
 use meshflow::pipeline::budget::ShapeFeatures;
 use meshflow::pipeline::generate::{GenerateOptions, Generated, StageTimes, input_points};
@@ -49,6 +50,27 @@ impl From<Schedule> for ScheduleMode {
     }
 }
 
+/// How each sampler step integrates the flow, as a command-line value.
+#[derive(Clone, Copy, Debug, ValueEnum)]
+pub enum SolverArg {
+    /// One DiT evaluation a step, as the paper.
+    Euler,
+    /// Heun's second-order step: two evaluations (one on a step that ends at t = 0).
+    Heun,
+    /// The midpoint rule: two evaluations a step (the default).
+    Midpoint,
+}
+
+impl From<SolverArg> for Solver {
+    fn from(s: SolverArg) -> Self {
+        match s {
+            SolverArg::Euler => Solver::Euler,
+            SolverArg::Heun => Solver::Heun,
+            SolverArg::Midpoint => Solver::Midpoint,
+        }
+    }
+}
+
 /// Options shared by `generate` and `eval generate`.
 #[derive(Args, Clone)]
 pub struct SamplingArgs {
@@ -56,7 +78,8 @@ pub struct SamplingArgs {
     /// shipped weights, found from any folder: see README.md].
     #[arg(long)]
     weights: Option<PathBuf>,
-    /// Euler steps (the paper's default is 28; a candidate more buys more than more steps).
+    /// Sampler steps, each of `--solver` (the paper's default is 28 Euler steps; a candidate
+    /// more buys more than more steps).
     #[arg(long, default_value_t = GenerateOptions::default().steps)]
     steps: usize,
     #[arg(long, default_value_t = 0)]
@@ -67,6 +90,8 @@ pub struct SamplingArgs {
     samples: usize,
     #[arg(long, value_enum, default_value = "to-zero")]
     schedule: Schedule,
+    #[arg(long, value_enum, default_value = "midpoint")]
+    solver: SolverArg,
     #[command(flatten)]
     extract: ExtractArgs,
     /// Rounds of moving the extracted vertices onto the input points' surface (0 = as
@@ -148,6 +173,7 @@ impl SamplingArgs {
             seed: self.seed,
             samples: self.samples,
             schedule: self.schedule.into(),
+            solver: self.solver.into(),
             extract: self.extract.options(),
             fit: if self.no_fit {
                 FitOptions::OFF
@@ -573,6 +599,7 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
         input: args.input.display().to_string(),
         backend: args.sampling.backend.name().into(),
         steps: opts.steps,
+        solver: opts.solver,
         runs: args.runs.max(1),
         vertex_budget: last.vertex_budget,
         faces: last.mesh.faces.len(),

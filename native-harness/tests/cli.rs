@@ -660,6 +660,43 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
     assert_eq!(bad.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&bad.stderr).contains("vertex budget 0"));
 
+    // A second-order solver generates too; an unknown one is refused with the choices.
+    for solver in ["heun", "midpoint"] {
+        let report = json(&meshflow(&[
+            "generate",
+            points.to_str().unwrap(),
+            "-o",
+            glb.to_str().unwrap(),
+            "--weights",
+            w,
+            "--steps",
+            "2",
+            "--solver",
+            solver,
+            "--json",
+        ]));
+        assert!(
+            report["topology"]["faces"].as_u64().unwrap() > 0,
+            "{solver}"
+        );
+    }
+    let bad = meshflow(&[
+        "generate",
+        points.to_str().unwrap(),
+        "-o",
+        glb.to_str().unwrap(),
+        "--weights",
+        w,
+        "--solver",
+        "rk4",
+    ]);
+    assert_eq!(bad.status.code(), Some(2));
+    let stderr = String::from_utf8_lossy(&bad.stderr);
+    assert!(
+        stderr.contains("rk4") && stderr.contains("heun"),
+        "{stderr}"
+    );
+
     // A face count steers the budget and is reported next to what came out; one the model
     // cannot make, or one beside --vertices, is refused, and no output file is left behind.
     let report = json(&meshflow(&[

@@ -516,9 +516,12 @@ await check('the npm package imports and generates the way a user would', async 
              if (keptIs < 0 && sameFaces && dv < 1e-3) keptIs = j;
            }
            const byDefault = await model.generate(points, { steps: 1, vertices: 64 });
+           const heun = await model.generate(points, { ...options, steps: 2, solver: 'heun' });
+           let badSolver = '';
+           try { await model.generate(points, { ...options, solver: 'rk4' }); } catch (e) { badSolver = e.message; }
            let badSamples = '';
            try { await model.generate(points, { ...options, samples: 0 }); } catch (e) { badSamples = e.message; }
-           window.__options = { both, tooFew, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
+           window.__options = { both, tooFew, solver: { heunFaces: heun.indices.length / 3, badSolver }, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
              samples: { keptIs, candidates, faces: best.indices.length / 3, badSamples, byDefault: byDefault.report.samples },
              holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
@@ -586,6 +589,8 @@ await check('the npm package imports and generates the way a user would', async 
   console.log(`  samples: 3 kept candidate ${o.samples.keptIs}; one-sample meshes ${JSON.stringify(o.samples.candidates)}`);
   assert(o.samples.byDefault === 12, `the default drew ${o.samples.byDefault} candidates, not 12`);
   assert(/samples must be an integer from 1 to 16/.test(o.samples.badSamples), `samples: 0 was not refused: ${o.samples.badSamples}`);
+  assert(o.solver.heunFaces > 0, `solver: 'heun' made no faces: ${JSON.stringify(o.solver)}`);
+  assert(/solver must be 'euler', 'heun' or 'midpoint'/.test(o.solver.badSolver), `solver: 'rk4' was not refused: ${o.solver.badSolver}`);
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {

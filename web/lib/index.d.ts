@@ -55,8 +55,14 @@ export interface GenerateOptions {
    * a triangulation of the hole's border); with `fit` only. False leaves them open.
    */
   closeHoles?: boolean;
-  /** Euler steps per candidate, default 7 (the paper uses 28). */
+  /** Sampler steps per candidate, default 4 (the paper uses 28 Euler steps). */
   steps?: number;
+  /**
+   * How each step follows the flow. `'midpoint'` (default) or `'heun'`: second order, two
+   * evaluations of the model a step (Heun's last step, to t = 0, is an Euler step).
+   * `'euler'`: one a step, as the paper. A TypeError for anything else.
+   */
+  solver?: 'euler' | 'heun' | 'midpoint';
   seed?: number;
   /**
    * Candidates drawn from different noise in one batch (1 to 16, default 12); the one kept

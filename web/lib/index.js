@@ -248,7 +248,9 @@ export class Model {
   }
   /**
    * Generates a mesh from `points` (Float32Array of x, y, z). Options: `vertices` or `faces`
-   * (a face count to aim for; not both), `steps` (default 7), `seed`, `extraction`
+   * (a face count to aim for; not both), `steps` (default 4), `solver` (`'midpoint'`, the
+   * default, or `'heun'`: second order, two evaluations of the model a step; `'euler'`: one,
+   * as the paper), `seed`, `extraction`
    * (`'manifold'`, the default: no edge with a third face, consistent winding; or `'paper'`:
    * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
    * per edge), `fit` (default true: vertices moved onto the points and the surface completed
@@ -258,7 +260,7 @@ export class Model {
    * each hole counting against it; 1 to 16, each costs a generation), `onStep(step, steps)`,
    * `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
-  async generate(points, { vertices, faces, steps, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
+  async generate(points, { vertices, faces, steps, solver, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
     if (vertices !== undefined && faces !== undefined) {
       throw new TypeError('ask for vertices or for faces, not both');
     }
@@ -271,6 +273,9 @@ export class Model {
     if (typeof closeHoles !== 'boolean') {
       throw new TypeError(`closeHoles must be true or false, got ${JSON.stringify(closeHoles)}`);
     }
+    if (solver !== undefined && !['euler', 'heun', 'midpoint'].includes(solver)) {
+      throw new TypeError(`solver must be 'euler', 'heun' or 'midpoint', got ${JSON.stringify(solver)}`);
+    }
     if (extraction !== undefined && extraction !== 'manifold' && extraction !== 'paper') {
       throw new TypeError(`extraction must be 'manifold' or 'paper', got ${JSON.stringify(extraction)}`);
     }
@@ -282,6 +287,7 @@ export class Model {
       vertices,
       faces,
       steps,
+      solver,
       seed,
       samples,
       extract,

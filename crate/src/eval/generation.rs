@@ -318,6 +318,7 @@ pub struct GenerationTiming {
     pub input: String,
     pub backend: String,
     pub steps: usize,
+    pub solver: crate::model::sampler::Solver,
     pub runs: usize,
     pub vertex_budget: usize,
     pub faces: usize,

@@ -9,7 +9,7 @@ use burn::tensor::{Device, Tensor, TensorData};
 use glam::Vec3;
 
 use super::dit::{Dit, DitConfig, Rope, is_image_path};
-use super::sampler::{SampleError, sample};
+use super::sampler::{SampleError, Solver, sample};
 use super::schedule::ScheduleMode;
 use super::tokens::assemble_features;
 use super::{MeshVae, TensorMap, Trace, VaeConfig, WeightsError, load_module, spacetime_distances};
@@ -262,6 +262,7 @@ pub fn verify_dit(dir: &Path, device: &Device) -> Result<Vec<TensorDiff>, Golden
         &rope,
         10,
         ScheduleMode::Reference,
+        Solver::Euler,
         &mut |_, _, x| {
             steps.extend(values(x.clone()));
             true

@@ -23,7 +23,7 @@ use wasm_bindgen::prelude::*;
 use web_time::Instant;
 
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
-use crate::model::sampler::euler_step;
+use crate::model::sampler::step;
 use crate::model::schedule::step_times;
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
@@ -177,8 +177,8 @@ impl MeshFlow {
     }
 
     /// Generates a mesh from `points` (x, y, z, ... in any frame). `options` is JSON:
-    /// `{"vertices": 300, "steps": 7, "samples": 12, "seed": 0, "schedule": "to-zero"}`, each
-    /// optional (the defaults of [`GenerateOptions`]).
+    /// `{"vertices": 300, "steps": 4, "samples": 12, "seed": 0, "schedule": "to-zero",
+    /// "solver": "midpoint"}`, each optional (the defaults of [`GenerateOptions`]).
     /// `on_step(step, steps)` is called after every step once the GPU has finished it;
     /// returning `false` cancels (the promise rejects with a "cancelled" message).
     pub async fn generate(
@@ -208,8 +208,9 @@ impl MeshFlow {
         let times = step_times(opts.steps, opts.schedule);
         let mut x = prepared.noise.clone();
         for i in 0..opts.steps {
-            x = euler_step(
+            x = step(
                 &self.models.dit,
+                opts.solver,
                 x,
                 times[i],
                 times[i + 1],

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# The sampler sweep of BENCHMARKS.md "Second-order sampling" (stop 34): validation generation
+# for each pair, solver and step count, one `meshflow eval generate` each (3-6 minutes here),
+# then `python3 bench/sampler/plot.py`.
+#
+#   bash bench/sampler/run.sh SHIPPED_PAIR WIDE_CONTINUED_PAIR WIDE_LARGE_PAIR
+#
+# Each PAIR is a folder with vae.* and dit.*: the shipped weights/, and the 64-wide VAE of
+# bench/vae_latent64/ (decoder.manifest.json) with its continued DiT (dit_continued.*) or its
+# large DiT (dit_big.*). The time-grid arms (`_g1`, `_g2`) ran on a build whose step_times read
+# the grid from an environment variable; that build is not shipped (neither grid helped), so
+# they are not repeated here. The committed JSON files have `per_mesh` removed.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
+MESHFLOW="${MESHFLOW:-${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}/release/meshflow}"
+declare -A PAIR=([S]="$1" [F]="$2" [B]="$3")
+arm() { # NAME PAIR SOLVER STEPS [SEED]
+    "$MESHFLOW" eval generate --split val --weights "${PAIR[$2]}" --solver "$3" --steps "$4" \
+        --seed "${5:-0}" -o "$ROOT/bench/sampler/val_$1.json"
+}
+cd "$ROOT"
+arm big_heun4 B heun 4
+arm big_heun7 B heun 7
+arm big_mid4 B midpoint 4
+arm ft_heun4 F heun 4
+arm ft_mid4 F midpoint 4
+arm ship_heun4 S heun 4
+arm ship_heun7 S heun 7
+arm ship_mid3 S midpoint 3
+arm ship_mid3_s1 S midpoint 3 1
+arm ship_mid4 S midpoint 4
+arm ship_mid4_s1 S midpoint 4 1
+arm ship_mid5 S midpoint 5
+python3 bench/sampler/plot.py
