@@ -14,9 +14,9 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 MESHFLOW="${MESHFLOW:-${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}/release/meshflow}"
 declare -A PAIR=([S]="$1" [F]="$2" [B]="$3")
-arm() { # NAME PAIR SOLVER STEPS [SEED]
+arm() { # NAME PAIR SOLVER STEPS [SEED] [CANDIDATES]
     "$MESHFLOW" eval generate --split val --weights "${PAIR[$2]}" --solver "$3" --steps "$4" \
-        --seed "${5:-0}" -o "$ROOT/bench/sampler/val_$1.json"
+        --seed "${5:-0}" --samples "${6:-12}" -o "$ROOT/bench/sampler/val_$1.json"
 }
 cd "$ROOT"
 arm big_heun4 B heun 4
@@ -31,4 +31,6 @@ arm ship_mid3_s1 S midpoint 3 1
 arm ship_mid4 S midpoint 4
 arm ship_mid4_s1 S midpoint 4 1
 arm ship_mid5 S midpoint 5
+arm ship_mid3_k16 S midpoint 3 0 16
+arm ship_mid2_k16 S midpoint 2 0 16
 python3 bench/sampler/plot.py
