@@ -2,9 +2,10 @@
 
 Reads the `meshflow eval generate --split val` results in this folder (`val_*.json`) and the
 Euler runs of earlier stops, prints one table (every seed) and draws `sampler.png` (seed 0).
-Each file's options say its solver, steps and seed; the time grid is in the name (`_g1`: S
-steps evenly spaced in t from 1 to 0; `_g2`: the same in shifted time, shift 2; none: the
-shipped to-zero schedule).
+Each file's options say its solver, steps, seed and schedule (`to-zero`, the default, or
+`reference`: the schedule for S + 1 cut at its last time, t ~ 0.009); the other time grids are
+in the name (`_g1`: S steps evenly spaced in t from 1 to 0; `_g2`: the same in shifted time,
+shift 2).
 """
 
 import glob
@@ -35,8 +36,8 @@ PAIRS = {
 
 
 def evaluations(solver, steps, grid):
-    # Heun's step to t = 0 is an Euler step; on the to-zero schedule that is the last one.
-    if solver == "heun":
+    # Heun's step to t = 0 is an Euler step: the last one, on every grid but `reference`.
+    if solver == "heun" and grid != "reference":
         return 2 * steps - 1
     return steps if solver == "euler" else 2 * steps
 
@@ -47,8 +48,8 @@ def arms():
     for path in files:
         d = json.load(open(path))
         name = os.path.basename(path).split(".")[0]
-        grid = name.split("_g")[1].split("_")[0] if "_g" in name else "to-zero"
         o = d["options"]
+        grid = name.split("_g")[1].split("_")[0] if "_g" in name else o["schedule"]
         solver = o.get("solver", "euler")
         ours = d["all"]["ours"]
         yield {
@@ -102,7 +103,7 @@ def main():
             # Other time grids: hollow, labelled by their shift.
             ax.plot(xs, ys, marker=markers[solver], color=colours[pair], markerfacecolor="none", linestyle="none")
             for x, y in zip(xs, ys):
-                ax.annotate(f"grid {grid}", (x, y), textcoords="offset points", xytext=(6, -3), fontsize=7)
+                ax.annotate(grid if grid == "reference" else f"grid {grid}", (x, y), textcoords="offset points", xytext=(6, -3), fontsize=7)
     ax.set_xscale("log", base=2)
     ticks = sorted({r["evals"] for r in rows})
     ax.set_xticks(ticks, [str(t) for t in ticks])

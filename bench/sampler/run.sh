@@ -14,9 +14,10 @@ set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 MESHFLOW="${MESHFLOW:-${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}/release/meshflow}"
 declare -A PAIR=([S]="$1" [F]="$2" [B]="$3")
-arm() { # NAME PAIR SOLVER STEPS [SEED] [CANDIDATES]
+arm() { # NAME PAIR SOLVER STEPS [SEED] [CANDIDATES] [SCHEDULE]
     "$MESHFLOW" eval generate --split val --weights "${PAIR[$2]}" --solver "$3" --steps "$4" \
-        --seed "${5:-0}" --samples "${6:-12}" -o "$ROOT/bench/sampler/val_$1.json"
+        --seed "${5:-0}" --samples "${6:-12}" --schedule "${7:-to-zero}" \
+        -o "$ROOT/bench/sampler/val_$1.json"
 }
 cd "$ROOT"
 arm big_heun4 B heun 4
@@ -33,4 +34,6 @@ arm ship_mid4_s1 S midpoint 4 1
 arm ship_mid5 S midpoint 5
 arm ship_mid3_k16 S midpoint 3 0 16
 arm ship_mid2_k16 S midpoint 2 0 16
+arm ship_mid3_ref S midpoint 3 0 12 reference
+arm ship_mid3_ref_s1 S midpoint 3 1 12 reference
 python3 bench/sampler/plot.py
