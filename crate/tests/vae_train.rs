@@ -9,9 +9,12 @@ use burn::tensor::Device;
 use meshflow::Mesh;
 use meshflow::geometry::normalize::Normalization;
 use meshflow::geometry::primitives::{cube, grid, icosphere, octahedron};
+use meshflow::model::tokens::build_tokens;
 use meshflow::model::{MeshVae, load_module};
 use meshflow::train::TrainObserver;
-use meshflow::train::vae::{VaeTrainConfig, epoch_batches, train_vae, validate};
+use meshflow::train::vae::{
+    NonEdgeWeights, VaeTrainConfig, epoch_batches, make_batch, train_vae, validate,
+};
 
 fn model_frame(m: Mesh) -> Mesh {
     Normalization::to_model_frame(m.aabb().unwrap()).apply_mesh(&m)
@@ -237,6 +240,63 @@ fn length_buckets_batch_meshes_of_one_length_and_cover_each_epoch() {
 }
 
 #[test]
+fn near_negatives_weigh_close_non_edges_and_nothing_else() {
+    // A 5 x 5 grid, padded: its edges are 0 in the weights, pairs of real vertices closer
+    // than 2 mean edge lengths get the near weight, farther ones the plain weight, padding 0.
+    let device = Device::flex();
+    let mesh = model_frame(grid(5, 5));
+    let cfg = small_config(1);
+    let tokens = build_tokens(&mesh, &cfg.model.tokens_for(mesh.positions.len()), 0).unwrap();
+    let (n, real) = (tokens.mask.len(), tokens.num_real);
+    let weights = NonEdgeWeights {
+        weight: 0.25,
+        near_weight: 1.0,
+        near_radius: 2.0,
+    };
+    let plane = |w: NonEdgeWeights| -> Vec<f32> {
+        make_batch(std::slice::from_ref(&tokens), w, &device)
+            .non_edges
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .unwrap()
+    };
+    let got = plane(weights);
+    let p = &tokens.positions;
+    let mean_edge = tokens
+        .edges
+        .iter()
+        .map(|&[i, j]| p[i as usize].distance(p[j as usize]))
+        .sum::<f32>()
+        / tokens.edges.len() as f32;
+    let (mut near, mut far) = (0, 0);
+    for i in 0..n {
+        for j in 0..n {
+            let w = got[i * n + j];
+            let is_edge = tokens.edges.contains(&[i as u32, j as u32]);
+            if i >= j || j >= real || is_edge {
+                assert_eq!(w, 0.0, "({i}, {j})");
+            } else if p[i].distance(p[j]) < 2.0 * mean_edge {
+                assert_eq!(w, 1.0, "({i}, {j})");
+                near += 1;
+            } else {
+                assert_eq!(w, 0.25, "({i}, {j})");
+                far += 1;
+            }
+        }
+    }
+    assert!(
+        near > 0 && far > 0,
+        "both kinds occur: {near} near, {far} far"
+    );
+    // Uniform weights: every real non-edge i < j the same, as the paper's loss has it.
+    let uniform = plane(NonEdgeWeights::uniform(0.25));
+    let count = uniform.iter().filter(|&&w| w == 0.25).count();
+    assert_eq!(count, near + far);
+    assert_eq!(uniform.iter().filter(|&&w| w != 0.0).count(), count);
+}
+
+#[test]
 fn bad_configurations_fail_before_any_step_naming_the_field() {
     let device = Device::flex();
     let data = meshes();
@@ -250,11 +310,13 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
     assert!(err.to_string().contains("learning_rat"), "{err}");
 
     type Spoil = fn(&mut VaeTrainConfig);
-    let cases: [(&str, Spoil); 4] = [
+    let cases: [(&str, Spoil); 6] = [
         ("latent_dim", |c| c.model.latent_dim = 0),
         ("num_latents", |c| c.model.num_latents = 48),
         ("batch_size", |c| c.batch_size = 0),
         ("learning_rate", |c| c.learning_rate = f64::NAN),
+        ("near_negative_weight", |c| c.near_negative_weight = -1.0),
+        ("near_negative_radius", |c| c.near_negative_radius = 0.0),
     ];
     for (field, spoil) in cases {
         let mut cfg = small_config(5);

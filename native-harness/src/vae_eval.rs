@@ -180,8 +180,16 @@ pub fn reconstruct(args: ReconstructArgs) -> Result<()> {
 
 fn print_metrics(m: &ReconstructionMetrics) {
     println!(
-        "vertex dist x100 {:.3}, normal dist x100 {:.3}, edge P/R/F1 {:.3}/{:.3}/{:.3}",
-        m.vertex_distance_x100, m.normal_distance_x100, m.edge_precision, m.edge_recall, m.edge_f1
+        "vertex dist x100 {:.3}, normal dist x100 {:.3}, edge P/R/F1 {:.3}/{:.3}/{:.3}, the \
+         extracted mesh's edges {:.3}/{:.3}/{:.3}",
+        m.vertex_distance_x100,
+        m.normal_distance_x100,
+        m.edge_precision,
+        m.edge_recall,
+        m.edge_f1,
+        m.mesh_edge_precision,
+        m.mesh_edge_recall,
+        m.mesh_edge_f1
     );
     let Some(c) = &m.comparison else {
         println!(
@@ -244,6 +252,21 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         s.edge_f1_pooled,
         s.surface.chamfer_x100,
         s.surface.hausdorff_x100
+    );
+    let w = &s.wrong_edges;
+    let share = |k: usize| 100.0 * k as f64 / w.total().max(1) as f64;
+    println!(
+        "  wrong edges: {:.0}% quad diagonals, {:.0}% two hops, {:.0}% near in space, {:.0}% far \
+         (of {})",
+        share(w.quad_diagonal),
+        share(w.two_hops),
+        share(w.near_in_space),
+        share(w.far),
+        w.total()
+    );
+    println!(
+        "  the extracted meshes' edges: P/R/F1 {:.3}/{:.3}/{:.3}",
+        s.mesh_edge_precision, s.mesh_edge_recall, s.mesh_edge_f1
     );
     for (name, b) in &report.buckets {
         println!(

@@ -3,6 +3,7 @@
 
 #[cfg(not(target_arch = "wasm32"))]
 pub mod budget;
+pub mod edge_errors;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod generation;
 pub mod metrics;

@@ -8,6 +8,7 @@ use burn::tensor::Device;
 use serde::Serialize;
 
 use crate::Mesh;
+use crate::eval::edge_errors::WrongEdgeKinds;
 use crate::eval::metrics::{CompareOptions, Comparison};
 use crate::eval::sets::EvalSet;
 use crate::eval::summary::{SurfaceSummary, bucketed};
@@ -32,6 +33,12 @@ pub struct ReconstructionSummary {
     pub edge_f1: f64,
     /// F1 over all edges of all meshes pooled.
     pub edge_f1_pooled: f64,
+    /// The false positives of all meshes pooled, by kind.
+    pub wrong_edges: WrongEdgeKinds,
+    /// Mean per-mesh precision / recall / F1 of the extracted meshes' edges.
+    pub mesh_edge_precision: f64,
+    pub mesh_edge_recall: f64,
+    pub mesh_edge_f1: f64,
     #[serde(flatten)]
     pub surface: SurfaceSummary,
     pub mask_errors: f64,
@@ -62,6 +69,12 @@ impl ReconstructionSummary {
             edge_precision: mean(&|m| m.edge_precision),
             edge_recall: mean(&|m| m.edge_recall),
             edge_f1: mean(&|m| m.edge_f1),
+            wrong_edges: ms
+                .iter()
+                .fold(WrongEdgeKinds::default(), |acc, m| acc + m.wrong_edges),
+            mesh_edge_precision: mean(&|m| m.mesh_edge_precision),
+            mesh_edge_recall: mean(&|m| m.mesh_edge_recall),
+            mesh_edge_f1: mean(&|m| m.mesh_edge_f1),
             edge_f1_pooled: if p + r > 0.0 {
                 2.0 * p * r / (p + r)
             } else {

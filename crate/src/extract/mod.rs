@@ -67,7 +67,9 @@ pub enum ExtractMethod {
 pub struct ExtractOptions {
     /// Manifold (default) or the paper's Algorithm 1.
     pub method: ExtractMethod,
-    /// Spacetime-distance threshold: an edge iff d > tau.
+    /// Spacetime-distance threshold: an edge iff d > tau. Reconstruction and generation take
+    /// their VAE's `tau` instead: it belongs to the decoder, whose training sets where edge
+    /// and non-edge scores cross.
     pub tau: f32,
     /// Fan-fill boundary loops of at most `max_hole_edges` vertices.
     pub fill_holes: bool,

@@ -498,8 +498,9 @@ impl Generator<'_> {
     }
 
     /// Stage 3: de-normalises sampled latents with the VAE manifest's mean/std and decodes.
-    /// On a wgpu device the spacetime threshold runs there too, unless `extract` ranks faces by
-    /// the embeddings' margins (the default manifold method does), which it does on the host.
+    /// On a wgpu device the spacetime threshold (at the VAE's tau) runs there too, unless
+    /// `extract` ranks faces by the embeddings' margins (the default manifold method does),
+    /// which it does on the host.
     pub fn decode(&self, latents: Tensor<3>, extract: &ExtractOptions) -> DecodedDevice {
         let d = self.vae_config.latent_dim;
         let channel = |v: &[f32]| {
@@ -510,7 +511,11 @@ impl Generator<'_> {
         let edges = if extract.uses_margins() {
             DeviceEdges::Embeddings(out.edge_embeddings)
         } else {
-            edges_on_device(out.edge_embeddings, out.mask_logits.clone(), extract.tau)
+            edges_on_device(
+                out.edge_embeddings,
+                out.mask_logits.clone(),
+                self.vae_config.tau,
+            )
         };
         DecodedDevice {
             mask_logits: out.mask_logits,
@@ -531,6 +536,14 @@ impl Generator<'_> {
         let started = Instant::now();
         let (n, e) = (prepared.slots, self.vae_config.edge_dim);
         let words = n.div_ceil(32);
+        // The edge threshold is the decoder's ([`ExtractOptions::tau`]).
+        let opts = &GenerateOptions {
+            extract: ExtractOptions {
+                tau: self.vae_config.tau,
+                ..opts.extract.clone()
+            },
+            ..opts.clone()
+        };
         // Each input's extraction and fitting are independent of the others', and a batch of
         // candidates (`opts.samples`) is where most of a generation's fitting time goes.
         let finished = map_in_parallel(&prepared.conditioned, |k, c| {

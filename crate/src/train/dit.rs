@@ -33,7 +33,7 @@ use crate::model::tokens::build_tokens;
 use crate::model::weights::{TensorMap, WeightsError};
 use crate::model::{MeshVae, Trace, VaeConfig, load_module, seeded_init};
 use crate::rng::Rng;
-use crate::train::vae::make_batch;
+use crate::train::vae::{NonEdgeWeights, make_batch};
 
 /// One cached training example.
 #[derive(Clone, Debug, PartialEq)]
@@ -82,7 +82,7 @@ pub fn encode_latents(
     for chunk in chunks {
         let l = chunk[0].0.mask.len() / cfg.merge_ratio();
         let chunk_tokens: Vec<_> = chunk.iter().map(|(t, _)| t.clone()).collect();
-        let batch = make_batch(&chunk_tokens, device);
+        let batch = make_batch(&chunk_tokens, NonEdgeWeights::uniform(1.0), device);
         let z = vae.encode(batch.features, &mut Trace::default()).mean;
         let values = z
             .into_data()

@@ -7,7 +7,8 @@
 //! - position and normal: squared error over real vertices (mean over vertices and the 3 axes);
 //! - adjacency: `(sum_E softplus(tau - d) + lambda_neg sum_notE softplus(d - tau)) / |E|`,
 //!   which is `L_pos + lambda_neg (|notE| / |E|) L_neg` with both means written out; pairs are
-//!   real i < j;
+//!   real i < j. Optionally, non-edges between close vertices weigh more
+//!   ([`VaeTrainConfig::near_negative_weight`]);
 //! - KL: `0.5 mean(mu^2 + exp(logvar) - 1 - logvar)` over latent channels, weight 1e-3.
 
 use std::path::Path;
@@ -58,11 +59,24 @@ pub struct VaeTrainConfig {
     /// Random rotation about the up axis (Y) and per-axis scale jitter in `[1-j, 1+j]`.
     pub augment: bool,
     pub scale_jitter: f32,
+    /// Weight of each non-edge pair whose ground-truth vertices lie closer than
+    /// `near_negative_radius` mean edge lengths of its mesh, in place of `lambda_neg`; 0 (the
+    /// default) leaves every non-edge at `lambda_neg`. On the validation split such pairs (at
+    /// radius 2) are a sixth of the non-edges but 89% of the shipped decoder's wrong edges
+    /// (quad diagonals, the two sides of a thin part; BENCHMARKS.md).
+    #[serde(default)]
+    pub near_negative_weight: f64,
+    #[serde(default = "default_near_negative_radius")]
+    pub near_negative_radius: f32,
     /// Train the decoder side only (post-KL projection, decoder, heads), starting from given
     /// weights: the encoder, and so every latent a DiT was trained on, stays bit for bit as it
     /// was, and the DiT keeps fitting the VAE ([`crate::pipeline::shipped::latent_space_sha256`]).
     #[serde(default)]
     pub decoder_only: bool,
+}
+
+fn default_near_negative_radius() -> f32 {
+    2.0
 }
 
 impl VaeTrainConfig {
@@ -87,7 +101,22 @@ impl VaeTrainConfig {
             eval_every: 500,
             augment: true,
             scale_jitter: 0.1,
+            near_negative_weight: 0.0,
+            near_negative_radius: default_near_negative_radius(),
             decoder_only: false,
+        }
+    }
+
+    /// How [`make_batch`] weighs the non-edge pairs.
+    pub fn non_edge_weights(&self) -> NonEdgeWeights {
+        NonEdgeWeights {
+            weight: self.lambda_neg as f32,
+            near_weight: if self.near_negative_weight > 0.0 {
+                self.near_negative_weight as f32
+            } else {
+                self.lambda_neg as f32
+            },
+            near_radius: self.near_negative_radius,
         }
     }
 
@@ -95,6 +124,18 @@ impl VaeTrainConfig {
     /// offending field.
     pub fn validate(&self) -> Result<(), String> {
         self.model.validate()?;
+        if !(self.near_negative_weight.is_finite() && self.near_negative_weight >= 0.0) {
+            return Err(format!(
+                "near_negative_weight must be 0 (off) or positive (got {})",
+                self.near_negative_weight
+            ));
+        }
+        if !(self.near_negative_radius.is_finite() && self.near_negative_radius > 0.0) {
+            return Err(format!(
+                "near_negative_radius must be positive (got {})",
+                self.near_negative_radius
+            ));
+        }
         super::check_schedule(
             &[
                 ("batch_size", self.batch_size),
@@ -145,12 +186,57 @@ pub struct VaeBatch {
     pub normals: Tensor<3>,
     /// `[B, N, N]`: 1 for ground-truth edges (i < j).
     pub edges: Tensor<3>,
-    /// `[B, N, N]`: 1 for real pairs i < j that are not edges.
+    /// `[B, N, N]`: the adjacency loss's weight of each real pair i < j that is not an edge
+    /// ([`NonEdgeWeights`]), 0 elsewhere.
     pub non_edges: Tensor<3>,
 }
 
+/// The weight of a non-edge pair in the adjacency loss: `weight`, or `near_weight` when its two
+/// ground-truth vertices are closer than `near_radius` times the mesh's mean edge length.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NonEdgeWeights {
+    pub weight: f32,
+    pub near_weight: f32,
+    pub near_radius: f32,
+}
+
+impl NonEdgeWeights {
+    /// Every non-edge at `weight` (for batches that only feed the encoder).
+    pub fn uniform(weight: f32) -> Self {
+        Self {
+            weight,
+            near_weight: weight,
+            near_radius: 0.0,
+        }
+    }
+
+    /// Fills `plane` (`n x n`, zeros) with the weights of `t`'s non-edges.
+    fn fill(&self, t: &VertexTokens, plane: &mut [f32], n: usize) {
+        let real = t.num_real;
+        for i in 0..real {
+            plane[i * n + i + 1..i * n + real].fill(self.weight);
+        }
+        if self.near_weight != self.weight && !t.edges.is_empty() {
+            let length =
+                |&[i, j]: &[u32; 2]| t.positions[i as usize].distance(t.positions[j as usize]);
+            let mean_edge = t.edges.iter().map(length).sum::<f32>() / t.edges.len() as f32;
+            let radius = self.near_radius * mean_edge;
+            for i in 0..real {
+                for j in i + 1..real {
+                    if t.positions[i].distance_squared(t.positions[j]) < radius * radius {
+                        plane[i * n + j] = self.near_weight;
+                    }
+                }
+            }
+        }
+        for &[i, j] in &t.edges {
+            plane[i as usize * n + j as usize] = 0.0;
+        }
+    }
+}
+
 /// Stacks token sets (all with the same N) into a batch.
-pub fn make_batch(tokens: &[VertexTokens], device: &Device) -> VaeBatch {
+pub fn make_batch(tokens: &[VertexTokens], non_edge: NonEdgeWeights, device: &Device) -> VaeBatch {
     let b = tokens.len();
     let n = tokens[0].mask.len();
     let c = tokens[0].in_channels;
@@ -164,14 +250,9 @@ pub fn make_batch(tokens: &[VertexTokens], device: &Device) -> VaeBatch {
         real.extend(t.mask.iter().map(|&m| m as u8 as f32));
         pos.extend(t.positions.iter().flat_map(|p| p.to_array()));
         nrm.extend(t.normals.iter().flat_map(|p| p.to_array()));
-        let plane = &mut non_edges[k * n * n..(k + 1) * n * n];
-        for i in 0..t.num_real {
-            plane[i * n + i + 1..i * n + t.num_real].fill(1.0);
-        }
+        non_edge.fill(t, &mut non_edges[k * n * n..(k + 1) * n * n], n);
         for &[i, j] in &t.edges {
-            let at = k * n * n + i as usize * n + j as usize;
-            edges[at] = 1.0;
-            non_edges[at] = 0.0;
+            edges[k * n * n + i as usize * n + j as usize] = 1.0;
         }
     }
     let t3 = |v: Vec<f32>, d: usize| Tensor::from_data(TensorData::new(v, [b, n, d]), device);
@@ -300,7 +381,7 @@ pub fn vae_losses_timed(
     let pos = per_mesh(softplus(d.clone().neg() + tau, 1.0) * batch.edges.clone());
     let neg = per_mesh(softplus(d - tau, 1.0) * batch.non_edges.clone());
     let num_edges = per_mesh(batch.edges.clone()).clamp_min(1.0);
-    let adjacency = ((pos + neg * cfg.lambda_neg) / num_edges).mean();
+    let adjacency = ((pos + neg) / num_edges).mean();
     laps.lap("adjacency: pairwise distances and loss");
 
     let kl = ((posterior.mean.square() + posterior.logvar.clone().exp() - 1.0 - posterior.logvar)
@@ -335,8 +416,24 @@ pub struct ValLog {
     pub edge_precision: f64,
     pub edge_recall: f64,
     pub edge_f1: f64,
+    /// The best pooled F1 over the thresholds of [`TAU_GRID`], and its tau: a loss that weighs
+    /// non-edges differently moves where edge and non-edge scores cross, so runs are compared
+    /// here as well as at the model's tau.
+    pub edge_f1_best_tau: f64,
+    pub best_tau: f32,
     pub mask_accuracy: f64,
 }
+
+/// The thresholds [`ValLog::edge_f1_best_tau`] tries: -3 to 3 in steps of 0.25.
+pub const TAU_GRID: [f32; 25] = {
+    let mut grid = [0.0; 25];
+    let mut k = 0;
+    while k < 25 {
+        grid[k] = -3.0 + 0.25 * k as f32;
+        k += 1;
+    }
+    grid
+};
 
 /// What training produced.
 pub struct TrainedVae {
@@ -412,7 +509,7 @@ fn optimiser_step(
     device: &Device,
     laps: &mut Laps,
 ) -> (MeshVae, VaeLosses, f64) {
-    let batch = make_batch(tokens, device);
+    let batch = make_batch(tokens, cfg.non_edge_weights(), device);
     let latents = tokens[0].mask.len() / cfg.model.merge_ratio();
     let noise = normal_noise(rng, [tokens.len(), latents, cfg.model.latent_dim], device);
     laps.lap("batch: dense tensors to the device");
@@ -537,13 +634,15 @@ pub fn validate(
         (0.0, 0.0, 0.0, 0.0, 0.0);
     let (mut tp, mut fp, mut fn_, mut mask_ok, mut mask_total) =
         (0usize, 0usize, 0usize, 0usize, 0usize);
+    // Pairs by how many grid thresholds their score exceeds, edges and non-edges apart.
+    let (mut edges_above, mut non_edges_above) = ([0usize; 26], [0usize; 26]);
     let chunks = tokens
         .chunk_by(|a, b| a.mask.len() == b.mask.len())
         .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
     for chunk in chunks {
         let n = chunk[0].mask.len();
         let latents = n / cfg.model.merge_ratio();
-        let batch = make_batch(chunk, device);
+        let batch = make_batch(chunk, cfg.non_edge_weights(), device);
         let zeros = Tensor::zeros([chunk.len(), latents, cfg.model.latent_dim], device);
         let l = vae_losses(vae, &batch, zeros, cfg);
         loss += scalar(l.total);
@@ -575,6 +674,20 @@ pub fn validate(
                     }
                 }
             }
+            let mut is_edge = vec![false; t.num_real * t.num_real];
+            for &[i, j] in &t.edges {
+                is_edge[i as usize * t.num_real + j as usize] = true;
+            }
+            for i in 0..t.num_real {
+                for j in i + 1..t.num_real {
+                    let above = TAU_GRID.partition_point(|&tau| d[k * n * n + i * n + j] > tau);
+                    if is_edge[i * t.num_real + j] {
+                        edges_above[above] += 1;
+                    } else {
+                        non_edges_above[above] += 1;
+                    }
+                }
+            }
             let s = edge_scores(&predicted, &t.edges);
             tp += s.true_positives;
             fp += s.predicted - s.true_positives;
@@ -592,6 +705,17 @@ pub fn validate(
     } else {
         0.0
     };
+    // At grid threshold g the predicted pairs are those above more than g thresholds.
+    let (mut best_f1, mut best_tau) = (0.0, cfg.model.tau);
+    for (g, &tau) in TAU_GRID.iter().enumerate() {
+        let tp_g: usize = edges_above[g + 1..].iter().sum();
+        let fp_g: usize = non_edges_above[g + 1..].iter().sum();
+        let all_edges: usize = edges_above.iter().sum();
+        let f1 = 2.0 * tp_g as f64 / (tp_g + fp_g + all_edges).max(1) as f64;
+        if f1 > best_f1 {
+            (best_f1, best_tau) = (f1, tau);
+        }
+    }
     Some(ValLog {
         step,
         val_loss: loss / batches,
@@ -601,6 +725,8 @@ pub fn validate(
         edge_precision: precision,
         edge_recall: recall,
         edge_f1: f1,
+        edge_f1_best_tau: best_f1,
+        best_tau,
         mask_accuracy: mask_ok as f64 / mask_total.max(1) as f64,
     })
 }
@@ -701,8 +827,16 @@ impl Task for VaeTask<'_> {
 
     fn describe(v: &ValLog) -> String {
         format!(
-            "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3}, mask acc {:.4}",
-            v.step, v.val_loss, v.edge_precision, v.edge_recall, v.edge_f1, v.mask_accuracy
+            "step {}: val loss {:.4}, edge P/R/F1 {:.3}/{:.3}/{:.3} (best F1 {:.3} at tau {}), \
+             mask acc {:.4}",
+            v.step,
+            v.val_loss,
+            v.edge_precision,
+            v.edge_recall,
+            v.edge_f1,
+            v.edge_f1_best_tau,
+            v.best_tau,
+            v.mask_accuracy
         )
     }
 }
@@ -814,7 +948,7 @@ pub fn latent_statistics(
         .chunk_by(|a, b| a.mask.len() == b.mask.len())
         .flat_map(|same| same.chunks(16));
     for chunk in chunks {
-        let batch = make_batch(chunk, device);
+        let batch = make_batch(chunk, NonEdgeWeights::uniform(1.0), device);
         let mean = vae.encode(batch.features, &mut Trace::default()).mean;
         let values = mean
             .try_into_data()

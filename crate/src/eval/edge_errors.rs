@@ -1,0 +1,154 @@
+//! Where a reconstruction's wrong edges are: each predicted edge that the ground truth lacks is
+//! put in one class by how its two vertices relate in the ground truth. Edge F1 says how many
+//! edges are wrong; this says which kind of mistake bounds it (BENCHMARKS.md, issue 14).
+//!
+//! Classes, first match wins, for a wrong edge `(i, j)`:
+//! 1. **quad diagonal**: `i` and `j` have two common neighbours `k`, `l` that are joined, so
+//!    `i-k-l` and `j-k-l` are ground-truth triangles and `(i, j)` is the other diagonal of their
+//!    quad (an artist's split of a planar quad is arbitrary to the geometry);
+//! 2. **two hops**: otherwise, a common neighbour;
+//! 3. **near in space**: farther apart in the ground truth's graph, but closer than
+//!    [`NEAR_EDGE_LENGTHS`] mean edge lengths (the two sides of a thin part, touching pieces);
+//! 4. **far**: everything else.
+
+use glam::Vec3;
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::topology::{Edge, adjacency, canonical_edges};
+
+/// The radius of "near in space", in mean ground-truth edge lengths of the mesh.
+pub const NEAR_EDGE_LENGTHS: f32 = 2.0;
+
+/// Counts of wrong edges by class (module docs).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct WrongEdgeKinds {
+    pub quad_diagonal: usize,
+    pub two_hops: usize,
+    pub near_in_space: usize,
+    pub far: usize,
+}
+
+impl WrongEdgeKinds {
+    /// All wrong edges.
+    pub fn total(&self) -> usize {
+        self.quad_diagonal + self.two_hops + self.near_in_space + self.far
+    }
+}
+
+impl std::ops::Add for WrongEdgeKinds {
+    type Output = Self;
+
+    fn add(self, o: Self) -> Self {
+        Self {
+            quad_diagonal: self.quad_diagonal + o.quad_diagonal,
+            two_hops: self.two_hops + o.two_hops,
+            near_in_space: self.near_in_space + o.near_in_space,
+            far: self.far + o.far,
+        }
+    }
+}
+
+/// Classifies the edges of `predicted` that are not in `actual`. `positions` are the ground
+/// truth's vertices, indexed like both edge sets; a predicted edge naming a vertex past them
+/// (a padding slot) counts as far.
+pub fn wrong_edge_kinds(predicted: &[Edge], actual: &[Edge], positions: &[Vec3]) -> WrongEdgeKinds {
+    let n = positions.len();
+    let actual = canonical_edges(actual);
+    let actual: Vec<Edge> = actual.into_iter().filter(|e| (e[1] as usize) < n).collect();
+    let neighbours = adjacency(n, &actual);
+    let joined = |a: u32, b: u32| actual.binary_search(&[a.min(b), a.max(b)]).is_ok();
+    let mean_edge = if actual.is_empty() {
+        0.0
+    } else {
+        actual
+            .iter()
+            .map(|&[a, b]| positions[a as usize].distance(positions[b as usize]))
+            .sum::<f32>()
+            / actual.len() as f32
+    };
+    let near = NEAR_EDGE_LENGTHS * mean_edge;
+    let mut kinds = WrongEdgeKinds::default();
+    for [i, j] in canonical_edges(predicted) {
+        if joined(i, j) {
+            continue;
+        }
+        if j as usize >= n {
+            kinds.far += 1;
+            continue;
+        }
+        // Neighbour lists are sorted: merge them for the common neighbours.
+        let common: Vec<u32> = neighbours[i as usize]
+            .iter()
+            .copied()
+            .filter(|k| neighbours[j as usize].binary_search(k).is_ok())
+            .collect();
+        let quad = common
+            .iter()
+            .enumerate()
+            .any(|(x, &k)| common[x + 1..].iter().any(|&l| joined(k, l)));
+        if quad {
+            kinds.quad_diagonal += 1;
+        } else if !common.is_empty() {
+            kinds.two_hops += 1;
+        } else if positions[i as usize].distance(positions[j as usize]) < near {
+            kinds.near_in_space += 1;
+        } else {
+            kinds.far += 1;
+        }
+    }
+    kinds
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::primitives::grid;
+    use crate::geometry::topology::edges;
+
+    #[test]
+    fn each_kind_of_wrong_edge_is_told_apart() {
+        // A 4 x 4 grid: vertex (i, j) is 5 j + i, and each quad is split along
+        // (i, j)-(i+1, j+1), so (1, 0)-(0, 1) is the diagonal the split did not take.
+        let g = grid(4, 4);
+        let actual = edges(&g.faces);
+        let v = |i: u32, j: u32| 5 * j + i;
+        assert!(actual.contains(&[v(0, 0), v(1, 1)]));
+        let diagonal = [v(1, 0), v(0, 1)];
+        let two_hops = [v(0, 0), v(2, 0)];
+        let far = [v(0, 0), v(4, 4)];
+        let mut predicted = actual.clone();
+        predicted.extend([diagonal, two_hops, far]);
+        let kinds = wrong_edge_kinds(&predicted, &actual, &g.positions);
+        assert_eq!(
+            kinds,
+            WrongEdgeKinds {
+                quad_diagonal: 1,
+                two_hops: 1,
+                near_in_space: 0,
+                far: 1,
+            }
+        );
+        assert_eq!(kinds.total(), 3);
+        // A padding slot is far; a correct edge is not counted at all.
+        let pad = [0, g.positions.len() as u32];
+        let kinds = wrong_edge_kinds(&[pad, actual[0]], &actual, &g.positions);
+        assert_eq!((kinds.far, kinds.total()), (1, 1));
+    }
+
+    #[test]
+    fn pairs_close_in_space_but_far_in_the_graph_are_near() {
+        // Two unit triangles stacked 0.1 apart: joining them is "near in space".
+        let positions = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(0.0, 0.0, 0.1),
+            Vec3::new(1.0, 0.0, 0.1),
+            Vec3::new(0.0, 1.0, 0.1),
+        ];
+        let actual = [[0, 1], [1, 2], [0, 2], [3, 4], [4, 5], [3, 5]];
+        let kinds = wrong_edge_kinds(&[[0, 3], [1, 4]], &actual, &positions);
+        assert_eq!(kinds.near_in_space, 2);
+        assert_eq!(kinds.total(), 2);
+    }
+}
