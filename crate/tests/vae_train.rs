@@ -7,13 +7,15 @@ use std::path::PathBuf;
 
 use burn::tensor::Device;
 use meshflow::Mesh;
+use meshflow::eval::metrics::edge_scores;
 use meshflow::geometry::normalize::Normalization;
 use meshflow::geometry::primitives::{cube, grid, icosphere, octahedron};
 use meshflow::model::tokens::build_tokens;
 use meshflow::model::{MeshVae, load_module};
 use meshflow::train::TrainObserver;
 use meshflow::train::vae::{
-    NonEdgeWeights, VaeTrainConfig, epoch_batches, make_batch, train_vae, validate,
+    NonEdgeWeights, TAU_GRID, VaeTrainConfig, best_grid_f1, epoch_batches, make_batch, train_vae,
+    validate,
 };
 
 fn model_frame(m: Mesh) -> Mesh {
@@ -294,6 +296,65 @@ fn near_negatives_weigh_close_non_edges_and_nothing_else() {
     let count = uniform.iter().filter(|&&w| w == 0.25).count();
     assert_eq!(count, near + far);
     assert_eq!(uniform.iter().filter(|&&w| w != 0.0).count(), count);
+}
+
+#[test]
+fn the_plain_configuration_weighs_every_non_edge_by_lambda_neg() {
+    let mut cfg = small_config(1);
+    assert_eq!(cfg.non_edge_weights(), NonEdgeWeights::uniform(0.25));
+    cfg.near_negative_weight = 3.0;
+    let w = cfg.non_edge_weights();
+    assert_eq!((w.weight, w.near_weight, w.near_radius), (0.25, 3.0, 2.0));
+}
+
+#[test]
+fn the_best_grid_threshold_is_the_best_of_scoring_at_each_one() {
+    // 400 pairs with pseudo-random scores in [-4, 4] (some exactly on the grid), a third of
+    // them edges: the histogram's best F1 equals scoring the pairs at every grid tau.
+    let mut state = 12345u64;
+    let mut next = || {
+        state = state
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (state >> 33) as u32
+    };
+    let pairs: Vec<([u32; 2], f32, bool)> = (0..400u32)
+        .map(|k| {
+            let r = next();
+            let d = if r % 7 == 0 {
+                TAU_GRID[(r % 25) as usize]
+            } else {
+                (r % 8000) as f32 / 1000.0 - 4.0
+            };
+            ([k, k + 1000], d, next() % 3 == 0)
+        })
+        .collect();
+    let actual: Vec<[u32; 2]> = pairs.iter().filter(|p| p.2).map(|p| p.0).collect();
+    let (mut edges_above, mut non_edges_above) = ([0usize; 26], [0usize; 26]);
+    for &(_, d, is_edge) in &pairs {
+        let above = TAU_GRID.partition_point(|&tau| d > tau);
+        if is_edge {
+            edges_above[above] += 1;
+        } else {
+            non_edges_above[above] += 1;
+        }
+    }
+    let (mut want_f1, mut want_tau) = (0.0, f32::NAN);
+    for &tau in &TAU_GRID {
+        let predicted: Vec<[u32; 2]> = pairs.iter().filter(|p| p.1 > tau).map(|p| p.0).collect();
+        let f1 = edge_scores(&predicted, &actual).f1;
+        if f1 > want_f1 {
+            (want_f1, want_tau) = (f1, tau);
+        }
+    }
+    let (f1, tau) = best_grid_f1(&edges_above, &non_edges_above, 0.0, 0.6);
+    assert!((f1 - want_f1).abs() < 1e-12, "{f1} against {want_f1}");
+    assert_eq!(tau, want_tau);
+    // The model's own tau stands when nothing on the grid beats it.
+    assert_eq!(
+        best_grid_f1(&edges_above, &non_edges_above, 1.0, 0.6),
+        (1.0, 0.6)
+    );
 }
 
 #[test]

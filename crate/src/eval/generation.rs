@@ -299,7 +299,14 @@ pub fn evaluate_generation(
         source,
         weights_vae_sha256: models.vae_manifest.sha256.clone(),
         weights_dit_sha256: models.dit_manifest.sha256.clone(),
-        options: eval.options.clone(),
+        // Extraction ran at the VAE's tau, whatever the options said (ExtractOptions::tau).
+        options: GenerateOptions {
+            extract: crate::extract::ExtractOptions {
+                tau: models.vae_manifest.model.tau,
+                ..eval.options.extract.clone()
+            },
+            ..eval.options.clone()
+        },
         budget: eval.budget,
         noise: eval.degradation.noise,
         missing: eval.degradation.missing,

@@ -109,14 +109,17 @@ fn vec3s(flat: &[f32]) -> Vec<Vec3> {
 
 /// The edges of `mesh`, extracted from the decoded slots `positions` whose `mask` logit is > 0,
 /// in slot numbers. Extraction copies those slots' positions unchanged and only drops
-/// unreferenced vertices, so a position names its slot; a vertex that names none (two slots
-/// decoded to the same point) gets a number past every slot, so its edges count as wrong.
+/// unreferenced vertices, so a position names its slot. A position two kept slots share names
+/// neither: its vertex gets a number past every slot, so its edges count as wrong.
 fn mesh_edges_in_slots(mesh: &Mesh, positions: &[Vec3], mask: &[f32]) -> Vec<[u32; 2]> {
     let key = |p: Vec3| p.to_array().map(f32::to_bits);
     let mut slot_of = std::collections::HashMap::new();
     for (i, &p) in positions.iter().enumerate() {
         if mask[i] > 0.0 {
-            slot_of.entry(key(p)).or_insert(i as u32);
+            slot_of
+                .entry(key(p))
+                .and_modify(|s| *s = None)
+                .or_insert(Some(i as u32));
         }
     }
     let unmatched = positions.len() as u32;
@@ -124,7 +127,13 @@ fn mesh_edges_in_slots(mesh: &Mesh, positions: &[Vec3], mask: &[f32]) -> Vec<[u3
         .positions
         .iter()
         .enumerate()
-        .map(|(v, &p)| *slot_of.get(&key(p)).unwrap_or(&(unmatched + v as u32)))
+        .map(|(v, &p)| {
+            slot_of
+                .get(&key(p))
+                .copied()
+                .flatten()
+                .unwrap_or(unmatched + v as u32)
+        })
         .collect();
     crate::geometry::topology::edges(&mesh.faces)
         .iter()
@@ -133,7 +142,7 @@ fn mesh_edges_in_slots(mesh: &Mesh, positions: &[Vec3], mask: &[f32]) -> Vec<[u3
 }
 
 /// Reconstructs a batch of model-frame meshes (each with at most N vertices) in one forward
-/// pass, extracts each with `extract`, and scores it against its input.
+/// pass, extracts each with `extract` at the VAE's tau, and scores it against its input.
 pub fn reconstruct_batch(
     vae: &MeshVae,
     cfg: &VaeConfig,
@@ -277,17 +286,21 @@ mod tests {
 
     #[test]
     fn the_extracted_meshs_edges_are_named_by_their_slots() {
-        // Slot 1 is masked out, so the mesh's vertices 0, 1, 2 are slots 0, 2, 3; a vertex
-        // at a point no slot decoded is numbered past the slots.
-        let slots = [Vec3::ZERO, Vec3::ONE, Vec3::X, Vec3::Y];
-        let mask = [1.0, -1.0, 1.0, 1.0];
+        // Slot 1 is masked out, so X names slot 2 alone and the mesh's vertices 0, 1, 2 are
+        // slots 0, 2, 3; Z, which no slot decoded, and Y, which two kept slots share in the
+        // second case, are numbered past the slots.
+        let slots = [Vec3::ZERO, Vec3::X, Vec3::X, Vec3::Y];
         let mesh = Mesh::new(
             vec![Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Z],
             vec![[0, 1, 2], [1, 3, 2]],
         );
-        let mut got = mesh_edges_in_slots(&mesh, &slots, &mask);
+        let mut got = mesh_edges_in_slots(&mesh, &slots, &[1.0, -1.0, 1.0, 1.0]);
         got.sort_unstable();
         assert_eq!(got, vec![[0, 2], [0, 3], [2, 3], [2, 7], [3, 7]]);
+        let shared = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::Y];
+        let mut got = mesh_edges_in_slots(&mesh, &shared, &[1.0; 4]);
+        got.sort_unstable();
+        assert_eq!(got, vec![[0, 1], [0, 6], [1, 6], [1, 7], [6, 7]]);
     }
 
     #[test]

@@ -62,8 +62,9 @@ pub struct VaeTrainConfig {
     /// Weight of each non-edge pair whose ground-truth vertices lie closer than
     /// `near_negative_radius` mean edge lengths of its mesh, in place of `lambda_neg`; 0 (the
     /// default) leaves every non-edge at `lambda_neg`. On the validation split such pairs (at
-    /// radius 2) are a sixth of the non-edges but 89% of the shipped decoder's wrong edges
-    /// (quad diagonals, the two sides of a thin part; BENCHMARKS.md).
+    /// radius 2) are a sixth of the non-edges, and nearly all of the shipped decoder's wrong
+    /// edges join such vertices (quad diagonals, the two sides of a thin part;
+    /// [`crate::eval::edge_errors`], BENCHMARKS.md).
     #[serde(default)]
     pub near_negative_weight: f64,
     #[serde(default = "default_near_negative_radius")]
@@ -76,7 +77,7 @@ pub struct VaeTrainConfig {
 }
 
 fn default_near_negative_radius() -> f32 {
-    2.0
+    crate::eval::edge_errors::NEAR_EDGE_LENGTHS
 }
 
 impl VaeTrainConfig {
@@ -109,14 +110,14 @@ impl VaeTrainConfig {
 
     /// How [`make_batch`] weighs the non-edge pairs.
     pub fn non_edge_weights(&self) -> NonEdgeWeights {
-        NonEdgeWeights {
-            weight: self.lambda_neg as f32,
-            near_weight: if self.near_negative_weight > 0.0 {
-                self.near_negative_weight as f32
-            } else {
-                self.lambda_neg as f32
-            },
-            near_radius: self.near_negative_radius,
+        if self.near_negative_weight > 0.0 {
+            NonEdgeWeights {
+                weight: self.lambda_neg as f32,
+                near_weight: self.near_negative_weight as f32,
+                near_radius: self.near_negative_radius,
+            }
+        } else {
+            NonEdgeWeights::uniform(self.lambda_neg as f32)
         }
     }
 
@@ -642,7 +643,12 @@ pub fn validate(
     for chunk in chunks {
         let n = chunk[0].mask.len();
         let latents = n / cfg.model.merge_ratio();
-        let batch = make_batch(chunk, cfg.non_edge_weights(), device);
+        // The plain non-edge weight, so validation losses compare across near weights.
+        let batch = make_batch(
+            chunk,
+            NonEdgeWeights::uniform(cfg.lambda_neg as f32),
+            device,
+        );
         let zeros = Tensor::zeros([chunk.len(), latents, cfg.model.latent_dim], device);
         let l = vae_losses(vae, &batch, zeros, cfg);
         loss += scalar(l.total);
@@ -705,17 +711,7 @@ pub fn validate(
     } else {
         0.0
     };
-    // At grid threshold g the predicted pairs are those above more than g thresholds.
-    let (mut best_f1, mut best_tau) = (0.0, cfg.model.tau);
-    for (g, &tau) in TAU_GRID.iter().enumerate() {
-        let tp_g: usize = edges_above[g + 1..].iter().sum();
-        let fp_g: usize = non_edges_above[g + 1..].iter().sum();
-        let all_edges: usize = edges_above.iter().sum();
-        let f1 = 2.0 * tp_g as f64 / (tp_g + fp_g + all_edges).max(1) as f64;
-        if f1 > best_f1 {
-            (best_f1, best_tau) = (f1, tau);
-        }
-    }
+    let (best_f1, best_tau) = best_grid_f1(&edges_above, &non_edges_above, f1, cfg.model.tau);
     Some(ValLog {
         step,
         val_loss: loss / batches,
@@ -729,6 +725,29 @@ pub fn validate(
         best_tau,
         mask_accuracy: mask_ok as f64 / mask_total.max(1) as f64,
     })
+}
+
+/// The best pooled F1 over [`TAU_GRID`] and its tau, from the pairs counted by how many grid
+/// thresholds their score exceeds (`edges_above[k]`: edges above exactly k of them), or
+/// `(f1, tau)`, the model's own, when no grid threshold beats it.
+pub fn best_grid_f1(
+    edges_above: &[usize; 26],
+    non_edges_above: &[usize; 26],
+    f1: f64,
+    tau: f32,
+) -> (f64, f32) {
+    let all_edges: usize = edges_above.iter().sum();
+    let mut best = (f1, tau);
+    for (g, &grid_tau) in TAU_GRID.iter().enumerate() {
+        // At threshold g the predicted pairs are those above more than g thresholds.
+        let tp: usize = edges_above[g + 1..].iter().sum();
+        let fp: usize = non_edges_above[g + 1..].iter().sum();
+        let f1 = 2.0 * tp as f64 / (tp + fp + all_edges).max(1) as f64;
+        if f1 > best.0 {
+            best = (f1, grid_tau);
+        }
+    }
+    best
 }
 
 /// Where a VAE run stands in its data: the epoch and the next batch of its list.
