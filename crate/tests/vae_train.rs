@@ -299,6 +299,27 @@ fn near_negatives_weigh_close_non_edges_and_nothing_else() {
 }
 
 #[test]
+fn latent_noise_reaches_training_and_none_leaves_it_as_it_was() {
+    let device = Device::flex();
+    let data = meshes();
+    let weights = |noise: f32, tag: &str| {
+        let mut cfg = small_config(3);
+        cfg.latent_noise = noise;
+        let dir = temp_dir(tag);
+        let mut quiet = Quiet {
+            stop_at: None,
+            last: 0,
+        };
+        let trained = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        trained.weights
+    };
+    let plain = weights(0.0, "noise-off");
+    assert_eq!(plain, weights(0.0, "noise-off-again"));
+    assert_ne!(plain, weights(0.5, "noise-on"));
+}
+
+#[test]
 fn the_plain_configuration_weighs_every_non_edge_by_lambda_neg() {
     let mut cfg = small_config(1);
     assert_eq!(cfg.non_edge_weights(), NonEdgeWeights::uniform(0.25));
@@ -371,13 +392,14 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
     assert!(err.to_string().contains("learning_rat"), "{err}");
 
     type Spoil = fn(&mut VaeTrainConfig);
-    let cases: [(&str, Spoil); 6] = [
+    let cases: [(&str, Spoil); 7] = [
         ("latent_dim", |c| c.model.latent_dim = 0),
         ("num_latents", |c| c.model.num_latents = 48),
         ("batch_size", |c| c.batch_size = 0),
         ("learning_rate", |c| c.learning_rate = f64::NAN),
         ("near_negative_weight", |c| c.near_negative_weight = -1.0),
         ("near_negative_radius", |c| c.near_negative_radius = 0.0),
+        ("latent_noise", |c| c.latent_noise = f32::NAN),
     ];
     for (field, spoil) in cases {
         let mut cfg = small_config(5);

@@ -69,6 +69,11 @@ pub struct VaeTrainConfig {
     pub near_negative_weight: f64,
     #[serde(default = "default_near_negative_radius")]
     pub near_negative_radius: f32,
+    /// Standard deviation of Gaussian noise added to every sampled latent in training steps
+    /// (0, the default: none). A DiT's samples are not encoded meshes; a decoder that has seen
+    /// latents pushed off the encoder's is meant to decode them more gracefully.
+    #[serde(default)]
+    pub latent_noise: f32,
     /// Train the decoder side only (post-KL projection, decoder, heads), starting from given
     /// weights: the encoder, and so every latent a DiT was trained on, stays bit for bit as it
     /// was, and the DiT keeps fitting the VAE ([`crate::pipeline::shipped::latent_space_sha256`]).
@@ -104,6 +109,7 @@ impl VaeTrainConfig {
             scale_jitter: 0.1,
             near_negative_weight: 0.0,
             near_negative_radius: default_near_negative_radius(),
+            latent_noise: 0.0,
             decoder_only: false,
         }
     }
@@ -129,6 +135,12 @@ impl VaeTrainConfig {
             return Err(format!(
                 "near_negative_weight must be 0 (off) or positive (got {})",
                 self.near_negative_weight
+            ));
+        }
+        if !(self.latent_noise.is_finite() && self.latent_noise >= 0.0) {
+            return Err(format!(
+                "latent_noise must be 0 (off) or positive (got {})",
+                self.latent_noise
             ));
         }
         if !(self.near_negative_radius.is_finite() && self.near_negative_radius > 0.0) {
@@ -291,7 +303,7 @@ pub fn vae_losses(
     noise: Tensor<3>,
     cfg: &VaeTrainConfig,
 ) -> VaeLosses {
-    vae_losses_timed(vae, batch, noise, cfg, &mut Laps::off())
+    vae_losses_timed(vae, batch, noise, None, cfg, &mut Laps::off())
 }
 
 /// Wall-clock laps through the parts of a training step (for `meshflow bench train-vae`);
@@ -334,11 +346,13 @@ impl Laps {
 }
 
 /// [`vae_losses`] with a lap after the encoder, the decoder, the pairwise adjacency term and the
-/// other loss terms.
+/// other loss terms; `latent_jitter` (`[B, N/r, D]`, [`VaeTrainConfig::latent_noise`]) is
+/// added to the sampled latents when given.
 pub fn vae_losses_timed(
     vae: &MeshVae,
     batch: &VaeBatch,
     noise: Tensor<3>,
+    latent_jitter: Option<Tensor<3>>,
     cfg: &VaeTrainConfig,
     laps: &mut Laps,
 ) -> VaeLosses {
@@ -357,7 +371,10 @@ pub fn vae_losses_timed(
         vae.encode(batch.features.clone(), &mut Trace::default())
     };
     let std = (posterior.logvar.clone() * 0.5).exp();
-    let z = posterior.mean.clone() + std * noise;
+    let mut z = posterior.mean.clone() + std * noise;
+    if let Some(jitter) = latent_jitter {
+        z = z + jitter;
+    }
     laps.lap("encoder");
     let out = vae.decode(z, &mut Trace::default());
     laps.lap("decoder");
@@ -513,8 +530,13 @@ fn optimiser_step(
     let batch = make_batch(tokens, cfg.non_edge_weights(), device);
     let latents = tokens[0].mask.len() / cfg.model.merge_ratio();
     let noise = normal_noise(rng, [tokens.len(), latents, cfg.model.latent_dim], device);
+    // Drawn only when asked for, so runs without it keep their random stream.
+    let jitter = (cfg.latent_noise > 0.0).then(|| {
+        normal_noise(rng, [tokens.len(), latents, cfg.model.latent_dim], device)
+            * cfg.latent_noise as f64
+    });
     laps.lap("batch: dense tensors to the device");
-    let losses = vae_losses_timed(&vae, &batch, noise, cfg, laps);
+    let losses = vae_losses_timed(&vae, &batch, noise, jitter, cfg, laps);
     let grads = losses.total.backward();
     laps.lap("backward");
     let grads = GradientsParams::from_grads(grads, &vae);
