@@ -25,7 +25,6 @@ use super::run::{Schedule, StepOutcome, Task, run_training};
 use super::{DeviceEma, TrainError, TrainObserver, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::data::augment::{AugmentOptions, augment_mesh};
-use crate::eval::metrics::edge_scores;
 use crate::model::sampler::normal_noise;
 use crate::model::tokens::{VertexTokens, build_tokens};
 use crate::model::weights::{TensorMap, WeightsError, load_module_keeping};
@@ -655,7 +654,7 @@ pub fn validate(
     tokens.sort_by_key(|t| t.mask.len());
     let (mut loss, mut position, mut normal, mut adjacency, mut batches) =
         (0.0, 0.0, 0.0, 0.0, 0.0);
-    let (mut tp, mut fp, mut fn_, mut mask_ok, mut mask_total) =
+    let (mut tp, mut fp, mut edges_total, mut mask_ok, mut mask_total) =
         (0usize, 0usize, 0usize, 0usize, 0usize);
     // Pairs by how many grid thresholds their score exceeds, edges and non-edges apart.
     let (mut edges_above, mut non_edges_above) = ([0usize; 26], [0usize; 26]);
@@ -694,38 +693,40 @@ pub fn validate(
             .try_into_vec::<f32>()
             .ok()?;
         for (k, t) in chunk.iter().enumerate() {
-            let mut predicted = Vec::new();
-            for i in 0..t.num_real {
-                for j in i + 1..t.num_real {
-                    if d[k * n * n + i * n + j] > cfg.model.tau {
-                        predicted.push([i as u32, j as u32]);
-                    }
-                }
-            }
-            let mut is_edge = vec![false; t.num_real * t.num_real];
+            // One pass over the real pairs: the scores at the model's tau and the histogram
+            // over the grid (`t.edges` are real, i < j and distinct).
+            let real = t.num_real;
+            let mut is_edge = vec![false; real * real];
             for &[i, j] in &t.edges {
-                is_edge[i as usize * t.num_real + j as usize] = true;
+                is_edge[i as usize * real + j as usize] = true;
             }
-            for i in 0..t.num_real {
-                for j in i + 1..t.num_real {
-                    let above = TAU_GRID.partition_point(|&tau| d[k * n * n + i * n + j] > tau);
-                    if is_edge[i * t.num_real + j] {
+            for i in 0..real {
+                for j in i + 1..real {
+                    let score = d[k * n * n + i * n + j];
+                    let above = TAU_GRID.partition_point(|&tau| score > tau);
+                    let edge = is_edge[i * real + j];
+                    if edge {
                         edges_above[above] += 1;
                     } else {
                         non_edges_above[above] += 1;
                     }
+                    if score > cfg.model.tau {
+                        if edge {
+                            tp += 1;
+                        } else {
+                            fp += 1;
+                        }
+                    }
                 }
             }
-            let s = edge_scores(&predicted, &t.edges);
-            tp += s.true_positives;
-            fp += s.predicted - s.true_positives;
-            fn_ += s.actual - s.true_positives;
+            edges_total += t.edges.len();
             for i in 0..n {
                 mask_ok += ((logits[k * n + i] > 0.0) == t.mask[i]) as usize;
             }
             mask_total += n;
         }
     }
+    let fn_ = edges_total - tp;
     let precision = tp as f64 / (tp + fp).max(1) as f64;
     let recall = tp as f64 / (tp + fn_).max(1) as f64;
     let f1 = if precision + recall > 0.0 {
