@@ -301,10 +301,7 @@ pub fn evaluate_generation(
         weights_dit_sha256: models.dit_manifest.sha256.clone(),
         // Extraction ran at the VAE's tau, whatever the options said (ExtractOptions::tau).
         options: GenerateOptions {
-            extract: crate::extract::ExtractOptions {
-                tau: models.vae_manifest.model.tau,
-                ..eval.options.extract.clone()
-            },
+            extract: eval.options.extract.at_tau_of(&models.vae_manifest.model),
             ..eval.options.clone()
         },
         budget: eval.budget,

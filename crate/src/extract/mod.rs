@@ -68,8 +68,8 @@ pub struct ExtractOptions {
     /// Manifold (default) or the paper's Algorithm 1.
     pub method: ExtractMethod,
     /// Spacetime-distance threshold: an edge iff d > tau. Reconstruction and generation take
-    /// their VAE's `tau` instead: it belongs to the decoder, whose training sets where edge
-    /// and non-edge scores cross.
+    /// their VAE's `tau` instead ([`Self::at_tau_of`]): it belongs to the decoder, whose
+    /// training sets where edge and non-edge scores cross.
     pub tau: f32,
     /// Fan-fill boundary loops of at most `max_hole_edges` vertices.
     pub fill_holes: bool,
@@ -114,6 +114,15 @@ impl Default for ExtractOptions {
 }
 
 impl ExtractOptions {
+    /// These options at the threshold of the VAE that decoded the edges
+    /// ([`crate::model::VaeConfig::tau`]): reconstruction and generation extract with it.
+    pub fn at_tau_of(&self, vae: &crate::model::VaeConfig) -> Self {
+        Self {
+            tau: vae.tau,
+            ..self.clone()
+        }
+    }
+
     /// The paper's Algorithm 1 with its defaults (quads filled, no filter).
     pub fn paper() -> Self {
         Self {

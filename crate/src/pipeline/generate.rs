@@ -536,12 +536,8 @@ impl Generator<'_> {
         let started = Instant::now();
         let (n, e) = (prepared.slots, self.vae_config.edge_dim);
         let words = n.div_ceil(32);
-        // The edge threshold is the decoder's ([`ExtractOptions::tau`]).
         let opts = &GenerateOptions {
-            extract: ExtractOptions {
-                tau: self.vae_config.tau,
-                ..opts.extract.clone()
-            },
+            extract: opts.extract.at_tau_of(self.vae_config),
             ..opts.clone()
         };
         // Each input's extraction and fitting are independent of the others', and a batch of

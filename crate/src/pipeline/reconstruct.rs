@@ -201,12 +201,7 @@ pub fn reconstruct_batch(
     let normals = read(out.normals)?;
     let embeddings = read(out.edge_embeddings)?;
     let e = cfg.edge_dim;
-    // The edge threshold belongs to the model: a decoder trained to another balance of edges
-    // and non-edges crosses at another tau.
-    let model_tau = ExtractOptions {
-        tau: cfg.tau,
-        ..extract.clone()
-    };
+    let extract = extract.at_tau_of(cfg);
 
     let mut results = Vec::with_capacity(b);
     for (k, (t, gt)) in tokens.iter().zip(meshes).enumerate() {
@@ -241,7 +236,7 @@ pub fn reconstruct_batch(
                 dim: e,
             },
         };
-        let (mesh, report) = extract_from_decoded(&decoded, &model_tau)?;
+        let (mesh, report) = extract_from_decoded(&decoded, &extract)?;
         let mesh_scores = edge_scores(&mesh_edges_in_slots(&mesh, &pos, mask), &t.edges);
         let comparison = if mesh.faces.is_empty() {
             None
