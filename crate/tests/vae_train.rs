@@ -548,3 +548,55 @@ fn decoder_only_training_can_start_a_decoder_of_another_size() {
     let (before, after) = (loss(&meshflow::model::module_tensors(&start)), loss(&wide));
     assert!(after < 0.5 * before, "validation loss {before} -> {after}");
 }
+
+/// Vertex blocks (`num_layers_vertex`) added to a trained decoder start as the identity: the
+/// decoder with them, loaded from weights without them, scores exactly as before; a
+/// decoder-only run from there trains them (their output projections leave zero) and lowers
+/// the validation loss.
+#[test]
+fn vertex_blocks_start_as_the_identity_and_then_learn() {
+    use meshflow::model::{load_module_keeping, module_tensors, seeded_init};
+    use meshflow::train::vae::train_vae_from;
+    let (device, data) = (Device::flex(), meshes());
+    let mut quiet = Quiet {
+        stop_at: None,
+        last: 0,
+    };
+    let base_cfg = small_config(60);
+    let base = trained_base("vertex-base");
+    let mut cfg = small_config(60);
+    cfg.decoder_only = true;
+    cfg.model.num_layers_vertex = 1;
+    assert!(cfg.model.same_encoder(&base_cfg.model));
+
+    let plain = load_module(MeshVae::new(&base_cfg.model, &device), &base, &|_| false).unwrap();
+    let new_blocks = |name: &str| name.contains("vertex_blocks");
+    let grown = load_module_keeping(
+        seeded_init(MeshVae::new(&cfg.model, &device), cfg.seed),
+        &base,
+        &|_| false,
+        &new_blocks,
+    )
+    .unwrap();
+    let before = validate(&plain, &data, &base_cfg, &device, 0).unwrap();
+    let grown_before = validate(&grown, &data, &cfg, &device, 0).unwrap();
+    assert_eq!(before.val_loss, grown_before.val_loss);
+    assert_eq!(before.edge_f1, grown_before.edge_f1);
+
+    let dir = temp_dir("vertex-blocks");
+    let trained = train_vae_from(&cfg, Some(&base), &data, &data, &dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
+    let out_projection = "decoder.vertex_blocks.0.attn1.to_out.0.weight";
+    let zero = &module_tensors(&grown).tensors[out_projection].1;
+    assert!(zero.iter().all(|&v| v == 0.0));
+    assert!(trained.tensors[out_projection].1.iter().any(|&v| v != 0.0));
+    let vae = load_module(MeshVae::new(&cfg.model, &device), &trained, &|_| false).unwrap();
+    let after = validate(&vae, &data, &cfg, &device, 0).unwrap();
+    assert!(
+        after.val_loss < before.val_loss,
+        "validation loss {} -> {}",
+        before.val_loss,
+        after.val_loss
+    );
+}

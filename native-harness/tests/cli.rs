@@ -369,6 +369,45 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("sha256"));
 
+    // A decoder-only run that adds vertex blocks starts from the whole trained decoder (the
+    // blocks start as the identity): its first step's loss is that of the same run without
+    // them. A decoder of another width would start afresh.
+    let first_loss = |vertex_layers: usize| {
+        let mut cfg: serde_json::Value = serde_json::from_str(SMALL_TRAINING).unwrap();
+        cfg["model"]["num_layers_vertex"] = vertex_layers.into();
+        cfg["decoder_only"] = true.into();
+        cfg["steps"] = 1.into();
+        let (config, out_dir) = (
+            dir.join(format!("vertex{vertex_layers}.json")),
+            dir.join(format!("vertex{vertex_layers}")),
+        );
+        let _ = std::fs::remove_dir_all(&out_dir);
+        std::fs::write(&config, cfg.to_string()).unwrap();
+        let out = meshflow(&[
+            "train",
+            "vae",
+            "--data",
+            data.to_str().unwrap(),
+            "--out",
+            out_dir.to_str().unwrap(),
+            "--config",
+            config.to_str().unwrap(),
+            "--init",
+            run.to_str().unwrap(),
+            "--val-meshes",
+            "2",
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let log = std::fs::read_to_string(out_dir.join("metrics.jsonl")).unwrap();
+        let step: serde_json::Value = serde_json::from_str(log.lines().next().unwrap()).unwrap();
+        step["loss"].as_f64().unwrap()
+    };
+    assert_eq!(first_loss(1), first_loss(0));
+
     // Bad requests: an unknown configuration, a point cloud to reconstruct.
     let out = meshflow(&[
         "train",

@@ -9,6 +9,7 @@
 //! x [B,N,C] -> proj_in -> TokenMerge(r) -> cross-attn(queries = merged, context = all N)
 //!   -> L_e self-attn blocks -> LayerNorm -> pre_kl -> [mean | logvar] -> z [B,N/r,D]
 //! z -> post_kl -> L_d self-attn blocks -> TokenSplit(r) -> cross-attn(context = latents)
+//!   -> L_v self-attn blocks over the N vertex tokens (0 in the reference layout)
 //!   -> LayerNorm -> heads: mask (1), vertex (3), normal (3, tanh), edge embedding (E)
 //! ```
 
@@ -50,6 +51,18 @@ pub struct VaeConfig {
     /// it, so a 60-vertex mesh costs 64 slots, not 512. Off in the reference layout.
     #[serde(default)]
     pub length_buckets: bool,
+    /// L_v: self-attention blocks over the N decoded vertex tokens, between the decoder's
+    /// cross-attention and its heads. Not in the paper: there each vertex's edge embedding is
+    /// computed from the latents alone, without seeing the other vertices it must be joined
+    /// to or kept apart from. Each block starts as the identity (zero output projections,
+    /// [`crate::model::seeded_init`]), so a trained decoder that gains one decodes exactly as
+    /// before until it is trained. 0 (the reference layout) is left out of the JSON.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub num_layers_vertex: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl VaeConfig {
@@ -69,6 +82,7 @@ impl VaeConfig {
             edge_dim: 32,
             tau: 0.6,
             length_buckets: false,
+            num_layers_vertex: 0,
         }
     }
 
@@ -145,6 +159,7 @@ impl VaeConfig {
             + self.num_layers_decoder as f64 * block(l, l, wd)
             + linear(n, wd / r, wd)
             + block(n, l, wd)
+            + self.num_layers_vertex as f64 * block(n, n, wd)
             + heads;
         let distances = 2.0 * n * n * e;
         encoder + decoder + distances
@@ -157,11 +172,23 @@ impl VaeConfig {
         let decoder_free = |c: &VaeConfig| VaeConfig {
             width_decoder: 0,
             num_layers_decoder: 0,
+            num_layers_vertex: 0,
             edge_dim: 0,
             tau: 0.0,
             ..c.clone()
         };
         decoder_free(self) == decoder_free(other)
+    }
+
+    /// Whether this is `other` with more vertex blocks ([`Self::num_layers_vertex`]) and
+    /// nothing else changed: a decoder that starts from `other`'s trained weights, its added
+    /// blocks starting as the identity.
+    pub fn adds_vertex_blocks_to(&self, other: &VaeConfig) -> bool {
+        self.num_layers_vertex >= other.num_layers_vertex
+            && VaeConfig {
+                num_layers_vertex: other.num_layers_vertex,
+                ..self.clone()
+            } == *other
     }
 
     /// Checks the sizes fit together; the message names the offending field.
@@ -242,6 +269,8 @@ pub struct Decoder {
     /// TokenSplit: each latent's channels cut into r chunks, each mapped to one token.
     pub upsample_mlp: Linear,
     pub cross_attn_block: CrossAttentionBlock,
+    /// Self-attention over the vertex tokens ([`VaeConfig::num_layers_vertex`]).
+    pub vertex_blocks: Vec<SelfAttentionBlock>,
     pub norm_out: LayerNorm,
     pub mask_head: Head,
     pub verts_head: Head,
@@ -327,6 +356,9 @@ impl MeshVae {
                 .collect(),
             upsample_mlp: linear(wd / r, wd, true, device),
             cross_attn_block: CrossAttentionBlock::new(wd, cfg.num_heads, device),
+            vertex_blocks: (0..cfg.num_layers_vertex)
+                .map(|_| SelfAttentionBlock::new(wd, cfg.num_heads, device))
+                .collect(),
             norm_out: layer_norm(wd, device),
             mask_head: Head::new(wd, 1, device),
             verts_head: Head::new(wd, 3, device),
@@ -383,8 +415,12 @@ impl MeshVae {
             .upsample_mlp
             .forward(h.clone().reshape([b, m * self.ratio, w / self.ratio]));
         trace.record("decoder.upsample_mlp", &split);
-        let x = d.cross_attn_block.forward(split, h);
+        let mut x = d.cross_attn_block.forward(split, h);
         trace.record("decoder.cross_attn_block", &x);
+        for (i, block) in d.vertex_blocks.iter().enumerate() {
+            x = block.forward(x);
+            trace.record(&format!("decoder.vertex_blocks.{i}"), &x);
+        }
         let x = d.norm_out.forward(x);
         trace.record("decoder.norm_out", &x);
         Decoded {
@@ -408,4 +444,38 @@ pub fn spacetime_distances(h: Tensor<3>) -> Tensor<3> {
     let s = h.clone().narrow(2, 0, e);
     let t = h.narrow(2, e, e);
     sq(s) - sq(t)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Only a configuration that adds vertex blocks and changes nothing else may start from
+    /// another's whole decoder; a reference-layout file keeps its JSON without the new field.
+    #[test]
+    fn adding_vertex_blocks_is_the_only_decoder_change_that_keeps_the_decoder() {
+        let base = VaeConfig::vae_small();
+        let grown = VaeConfig {
+            num_layers_vertex: 2,
+            ..base.clone()
+        };
+        assert!(grown.adds_vertex_blocks_to(&base));
+        assert!(base.adds_vertex_blocks_to(&base));
+        assert!(!base.adds_vertex_blocks_to(&grown));
+        let wider = VaeConfig {
+            width_decoder: 128,
+            ..grown.clone()
+        };
+        assert!(!wider.adds_vertex_blocks_to(&base));
+        assert!(wider.same_encoder(&base));
+        assert!(
+            !serde_json::to_string(&base)
+                .unwrap()
+                .contains("num_layers_vertex")
+        );
+        let round: VaeConfig =
+            serde_json::from_str(&serde_json::to_string(&grown).unwrap()).unwrap();
+        assert_eq!(round, grown);
+        assert!(grown.forward_flops(64) > base.forward_flops(64));
+    }
 }

@@ -366,7 +366,17 @@ impl ModuleMapper for SeededInit {
         let device = param.lazy_device();
         let n = dims.iter().product::<usize>();
         let last = self.path.last().map(String::as_str).unwrap_or("");
+        // A decoder's vertex block starts as the identity (VaeConfig::num_layers_vertex): its
+        // two residual branches end in zero projections.
+        let parent = self
+            .path
+            .len()
+            .checked_sub(2)
+            .map(|i| self.path[i].as_str());
+        let zero_output = self.path.iter().any(|p| p == "vertex_blocks")
+            && matches!(parent, Some("to_out" | "linear_out"));
         let values: Vec<f32> = match (last, D) {
+            _ if zero_output => vec![0.0; n],
             ("gamma", _) => vec![1.0; n],
             ("beta", _) => vec![0.0; n],
             ("skip_gate", _) => vec![0.5; n],

@@ -47,6 +47,7 @@ pub fn vae_ship() -> VaeTrainConfig {
         tau: 0.6,
         // Pad each mesh to its length bucket, not to 512: 2.4x the meshes per second.
         length_buckets: true,
+        num_layers_vertex: 0,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 8;
@@ -83,6 +84,7 @@ pub fn vae_tiny() -> VaeTrainConfig {
         edge_dim: 32,
         tau: 0.6,
         length_buckets: false,
+        num_layers_vertex: 0,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 4;

@@ -161,8 +161,11 @@ impl VaeRun {
                     .map_err(|e| RunError::BadInput(format!("--init {}: {e}", dir.display())))?;
                 let mut map = TensorMap::from_safetensors(&bytes, "")?;
                 if config.decoder_only && manifest.model.same_encoder(&config.model) {
-                    // A decoder of another size on the same encoder starts afresh.
-                    if manifest.model != config.model {
+                    // A decoder of another size on the same encoder starts afresh; one that
+                    // only adds vertex blocks keeps the trained decoder.
+                    if manifest.model != config.model
+                        && !config.model.adds_vertex_blocks_to(&manifest.model)
+                    {
                         map.tensors.retain(|name, _| is_encoder_side(name));
                     }
                 } else if manifest.model != config.model {
