@@ -371,12 +371,14 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
 
     // A decoder-only run that adds vertex blocks starts from the whole trained decoder (the
     // blocks start as the identity): its first step's loss is that of the same run without
-    // them. A decoder of another width would start afresh.
+    // them. A decoder of another width would start afresh. `extraction_tau` is written as the
+    // trained VAE's threshold and leaves the loss alone.
     let first_loss = |vertex_layers: usize| {
         let mut cfg: serde_json::Value = serde_json::from_str(SMALL_TRAINING).unwrap();
         cfg["model"]["num_layers_vertex"] = vertex_layers.into();
         cfg["decoder_only"] = true.into();
         cfg["steps"] = 1.into();
+        cfg["extraction_tau"] = (-1.5).into();
         let (config, out_dir) = (
             dir.join(format!("vertex{vertex_layers}.json")),
             dir.join(format!("vertex{vertex_layers}")),
@@ -402,6 +404,13 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
             "{}",
             String::from_utf8_lossy(&out.stderr)
         );
+        // The threshold chosen for extraction is the one written beside the weights.
+        for file in ["vae.json", "vae.manifest.json"] {
+            let written: serde_json::Value =
+                serde_json::from_slice(&std::fs::read(out_dir.join(file)).unwrap()).unwrap();
+            let model = written.get("model").unwrap_or(&written);
+            assert_eq!(model["tau"], -1.5, "{file}");
+        }
         let log = std::fs::read_to_string(out_dir.join("metrics.jsonl")).unwrap();
         let step: serde_json::Value = serde_json::from_str(log.lines().next().unwrap()).unwrap();
         step["loss"].as_f64().unwrap()

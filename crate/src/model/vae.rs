@@ -180,13 +180,14 @@ impl VaeConfig {
         decoder_free(self) == decoder_free(other)
     }
 
-    /// Whether this is `other` with more vertex blocks ([`Self::num_layers_vertex`]) and
-    /// nothing else changed: a decoder that starts from `other`'s trained weights, its added
-    /// blocks starting as the identity.
-    pub fn adds_vertex_blocks_to(&self, other: &VaeConfig) -> bool {
+    /// Whether a decoder-only run of this configuration starts from `other`'s whole trained
+    /// decoder: the same shapes, with as many vertex blocks ([`Self::num_layers_vertex`]) or
+    /// more (added ones start as the identity). The threshold may differ: it is not a shape.
+    pub fn continues_decoder_of(&self, other: &VaeConfig) -> bool {
         self.num_layers_vertex >= other.num_layers_vertex
             && VaeConfig {
                 num_layers_vertex: other.num_layers_vertex,
+                tau: other.tau,
                 ..self.clone()
             } == *other
     }
@@ -450,23 +451,29 @@ pub fn spacetime_distances(h: Tensor<3>) -> Tensor<3> {
 mod tests {
     use super::*;
 
-    /// Only a configuration that adds vertex blocks and changes nothing else may start from
-    /// another's whole decoder; a reference-layout file keeps its JSON without the new field.
+    /// Only a configuration that adds vertex blocks or moves tau, and changes nothing else,
+    /// starts from another's whole decoder; a reference-layout file keeps its JSON without the
+    /// new field.
     #[test]
-    fn adding_vertex_blocks_is_the_only_decoder_change_that_keeps_the_decoder() {
+    fn only_added_vertex_blocks_or_another_tau_keep_the_trained_decoder() {
         let base = VaeConfig::vae_small();
         let grown = VaeConfig {
             num_layers_vertex: 2,
             ..base.clone()
         };
-        assert!(grown.adds_vertex_blocks_to(&base));
-        assert!(base.adds_vertex_blocks_to(&base));
-        assert!(!base.adds_vertex_blocks_to(&grown));
+        assert!(grown.continues_decoder_of(&base));
+        assert!(base.continues_decoder_of(&base));
+        assert!(!base.continues_decoder_of(&grown));
+        let other_tau = VaeConfig {
+            tau: -2.5,
+            ..grown.clone()
+        };
+        assert!(other_tau.continues_decoder_of(&base));
         let wider = VaeConfig {
             width_decoder: 128,
             ..grown.clone()
         };
-        assert!(!wider.adds_vertex_blocks_to(&base));
+        assert!(!wider.continues_decoder_of(&base));
         assert!(wider.same_encoder(&base));
         assert!(
             !serde_json::to_string(&base)

@@ -173,13 +173,18 @@ mod tests {
         serde_json::from_value(manifest["training"].clone()).unwrap()
     }
 
-    /// Both shipped models end with a second stage (`scripts/train_vae.sh`,
-    /// `scripts/train_dit.sh`): its file is the training the shipped manifest records, so the
-    /// scripts reproduce what ships.
+    /// The shipped models end with a last stage (`scripts/train_vae.sh`: the vertex-block
+    /// decoder; `scripts/train_dit.sh`: the continued DiT): its file is the training the
+    /// shipped manifest records, so the scripts reproduce what ships.
     #[test]
-    fn the_shipped_weights_were_trained_last_by_the_second_stage_configs() {
+    fn the_shipped_weights_were_trained_last_by_the_last_stage_configs() {
+        let vertex = vae_config(shipped("vae.vertex.train.json").to_str().unwrap()).unwrap();
+        assert_eq!(vertex, recorded::<VaeTrainConfig>("vae.manifest.json"));
+        // Each VAE stage after the first continues the one before: the same encoder, and a
+        // decoder that keeps the previous stage's trained one.
         let decoder = vae_config(shipped("vae.decoder.train.json").to_str().unwrap()).unwrap();
-        assert_eq!(decoder, recorded::<VaeTrainConfig>("vae.manifest.json"));
+        assert!(vertex.decoder_only && decoder.decoder_only);
+        assert!(vertex.model.continues_decoder_of(&decoder.model));
         let continued = dit_config(&shipped("dit.continue.train.json")).unwrap();
         assert_eq!(continued, recorded::<DitTrainConfig>("dit.manifest.json"));
         // The continuation keeps the first stage's model, so `--init` loads it.

@@ -161,11 +161,9 @@ impl VaeRun {
                     .map_err(|e| RunError::BadInput(format!("--init {}: {e}", dir.display())))?;
                 let mut map = TensorMap::from_safetensors(&bytes, "")?;
                 if config.decoder_only && manifest.model.same_encoder(&config.model) {
-                    // A decoder of another size on the same encoder starts afresh; one that
-                    // only adds vertex blocks keeps the trained decoder.
-                    if manifest.model != config.model
-                        && !config.model.adds_vertex_blocks_to(&manifest.model)
-                    {
+                    // A decoder of another size on the same encoder starts afresh; one of the
+                    // same shapes, or with vertex blocks added, keeps the trained decoder.
+                    if !config.model.continues_decoder_of(&manifest.model) {
                         map.tensors.retain(|name, _| is_encoder_side(name));
                     }
                 } else if manifest.model != config.model {
@@ -230,8 +228,9 @@ impl VaeRun {
             _ => latent_statistics(&vae, &cfg.model, &self.train, device),
         };
         let bytes = trained.weights.to_safetensors(None);
+        let model = cfg.trained_model();
         let manifest = VaeManifest {
-            model: cfg.model.clone(),
+            model: model.clone(),
             sha256: sha256_hex(&bytes),
             latent_mean,
             latent_std,
@@ -246,7 +245,7 @@ impl VaeRun {
                 wall_s,
             )?,
         };
-        write_weights(out, "vae", &bytes, &cfg.model, &manifest)?;
+        write_weights(out, "vae", &bytes, &model, &manifest)?;
         Ok(RunSummary {
             steps: trained.steps,
             wall_s,

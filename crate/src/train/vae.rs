@@ -78,6 +78,13 @@ pub struct VaeTrainConfig {
     /// was, and the DiT keeps fitting the VAE ([`crate::pipeline::shipped::latent_space_sha256`]).
     #[serde(default)]
     pub decoder_only: bool,
+    /// The edge threshold written into the trained VAE's configuration (`model.tau` of
+    /// `vae.json` and the manifest), which extraction uses; the loss keeps `model.tau`. `None`
+    /// (the default) writes `model.tau`. Weighing near non-edges moves where the decoder's
+    /// edge and non-edge scores cross, so such a run is extracted at a threshold chosen on
+    /// the validation split ([`ValLog::best_tau`], BENCHMARKS.md).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub extraction_tau: Option<f32>,
 }
 
 fn default_near_negative_radius() -> f32 {
@@ -110,6 +117,7 @@ impl VaeTrainConfig {
             near_negative_radius: default_near_negative_radius(),
             latent_noise: 0.0,
             decoder_only: false,
+            extraction_tau: None,
         }
     }
 
@@ -123,6 +131,15 @@ impl VaeTrainConfig {
             }
         } else {
             NonEdgeWeights::uniform(self.lambda_neg as f32)
+        }
+    }
+
+    /// The trained VAE's configuration as written beside its weights: `model` with
+    /// [`Self::extraction_tau`] as its threshold.
+    pub fn trained_model(&self) -> VaeConfig {
+        VaeConfig {
+            tau: self.extraction_tau.unwrap_or(self.model.tau),
+            ..self.model.clone()
         }
     }
 
@@ -147,6 +164,9 @@ impl VaeTrainConfig {
                 "near_negative_radius must be positive (got {})",
                 self.near_negative_radius
             ));
+        }
+        if let Some(tau) = self.extraction_tau.filter(|t| !t.is_finite()) {
+            return Err(format!("extraction_tau must be finite (got {tau})"));
         }
         super::check_schedule(
             &[
