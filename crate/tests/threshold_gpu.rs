@@ -138,7 +138,8 @@ fn decoded_meshes_are_the_same_through_the_gpu_and_cpu_threshold() {
     let mut rng = Rng::new(5);
     let z: Vec<f32> = (0..b * l * d).map(|_| rng.normal() as f32).collect();
     let z = Tensor::<3>::from_data(TensorData::new(z, [b, l, d]), &device);
-    let opts = ExtractOptions::paper();
+    // The device thresholds at the VAE's tau; the host extraction compared with it must too.
+    let opts = ExtractOptions::paper().at_tau_of(&cfg);
     let on_gpu = generator.decode(z.clone(), &opts);
     let bits = match on_gpu.edges {
         DeviceEdges::Bits(t) => read_bits(t.try_into_data()).unwrap(),
