@@ -6,17 +6,19 @@
 #   BUDGET_S=3300 bash bench/vae_near_negatives/run.sh RUNS d_near3_long e_near10_long  # round 2
 # then `python3 bench/vae_near_negatives/plot.py RUNS` for near_negatives.png and the table,
 # and tau_sweep.sh to score each result on the validation split at several thresholds.
-# CONFIGS names another folder of ARM.json files (bench/vae_vertex_blocks/run.sh).
+# CONFIGS names another folder of ARM.json files (bench/vae_vertex_blocks/run.sh); INIT the
+# weights to continue (default: the shipped ones).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 RUNS="${1:?usage: run.sh RUNS [ARM ...]}"; shift
 MESHFLOW="${MESHFLOW:-${CARGO_TARGET_DIR:-$HOME/.cache/meshflow/target}/release/meshflow}"
 BUDGET_S="${BUDGET_S:-2400}"
 CONFIGS="${CONFIGS:-$ROOT/bench/vae_near_negatives}"
+INIT="${INIT:-$ROOT/weights}"
 ARMS=("$@"); [[ ${#ARMS[@]} -gt 0 ]] || ARMS=(a_control b_near1 c_near3)
 mkdir -p "$RUNS"
 for arm in "${ARMS[@]}"; do
-    RAYON_NUM_THREADS=1 nice "$MESHFLOW" train vae --out "$RUNS/$arm" --init "$ROOT/weights" \
+    RAYON_NUM_THREADS=1 nice "$MESHFLOW" train vae --out "$RUNS/$arm" --init "$INIT" \
         --config "$CONFIGS/$arm.json" --time-budget-s "$BUDGET_S" \
         > "$RUNS/$arm.log" 2>&1 &
 done

@@ -44,9 +44,19 @@ fn small_config(steps: usize) -> VaeTrainConfig {
     cfg
 }
 
+/// An observer that prints nothing and stops the run after `stop_at` steps when set.
 struct Quiet {
     stop_at: Option<usize>,
     last: usize,
+}
+
+impl Quiet {
+    fn new() -> Self {
+        Self {
+            stop_at: None,
+            last: 0,
+        }
+    }
 }
 
 impl TrainObserver for Quiet {
@@ -72,10 +82,7 @@ fn small_vae_overfits_a_few_meshes() {
     let cfg = small_config(400);
     let data = meshes();
     let dir = temp_dir("overfit");
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let trained = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
     assert_eq!(trained.steps, 400);
     let vae = load_module(MeshVae::new(&cfg.model, &device), &trained.weights, &|_| {
@@ -101,10 +108,7 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     let data = meshes();
 
     let straight = temp_dir("straight");
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
 
     // Stop after step 7 (between scheduled checkpoints: the stop writes one), then start
@@ -116,10 +120,7 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     };
     let partial = train_vae(&cfg, &data, &data, &resumed, &device, &mut stopping).unwrap();
     assert_eq!(partial.steps, 7);
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let b = train_vae(&cfg, &data, &data, &resumed, &device, &mut quiet).unwrap();
     assert_eq!(b.steps, 12);
     assert_eq!(
@@ -170,10 +171,7 @@ fn a_run_killed_after_a_checkpoint_resumes_with_the_same_metrics_and_weights() {
     let data = meshes();
 
     let straight = temp_dir("kill-straight");
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
 
     // Run to the step-8 checkpoint and keep a copy of it; run on to step 10, then put the
@@ -306,10 +304,7 @@ fn latent_noise_reaches_training_and_none_leaves_it_as_it_was() {
         let mut cfg = small_config(3);
         cfg.latent_noise = noise;
         let dir = temp_dir(tag);
-        let mut quiet = Quiet {
-            stop_at: None,
-            last: 0,
-        };
+        let mut quiet = Quiet::new();
         let trained = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
         let _ = std::fs::remove_dir_all(&dir);
         trained.weights
@@ -382,10 +377,7 @@ fn the_best_grid_threshold_is_the_best_of_scoring_at_each_one() {
 fn bad_configurations_fail_before_any_step_naming_the_field() {
     let device = Device::flex();
     let data = meshes();
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let mut json: serde_json::Value = serde_json::to_value(small_config(5)).unwrap();
     json["learning_rat"] = 0.1.into();
     let err = serde_json::from_value::<VaeTrainConfig>(json).unwrap_err();
@@ -417,10 +409,7 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
 /// The whole small VAE trained for 60 steps on [`meshes`]: the weights decoder-only runs
 /// start from.
 fn trained_base(dir: &str) -> meshflow::model::TensorMap {
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let data = meshes();
     train_vae(
         &small_config(60),
@@ -442,10 +431,7 @@ fn decoder_only_training_keeps_the_latent_space() {
     use meshflow::pipeline::shipped::{is_encoder_side, latent_space_sha256};
     use meshflow::train::vae::train_vae_from;
     let (device, data) = (Device::flex(), meshes());
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let first = trained_base("dec-base");
     let mut cfg = small_config(60);
     cfg.decoder_only = true;
@@ -487,10 +473,7 @@ fn decoder_only_training_can_start_a_decoder_of_another_size() {
     use meshflow::pipeline::shipped::is_encoder_side;
     use meshflow::train::vae::train_vae_from;
     let (device, data) = (Device::flex(), meshes());
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let base = small_config(60);
     let first = trained_base("wide-base");
     let mut cfg = small_config(60);
@@ -558,10 +541,7 @@ fn vertex_blocks_start_as_the_identity_and_then_learn() {
     use meshflow::model::{load_module_keeping, module_tensors, seeded_init};
     use meshflow::train::vae::train_vae_from;
     let (device, data) = (Device::flex(), meshes());
-    let mut quiet = Quiet {
-        stop_at: None,
-        last: 0,
-    };
+    let mut quiet = Quiet::new();
     let base_cfg = small_config(60);
     let base = trained_base("vertex-base");
     let mut cfg = small_config(60);
@@ -599,4 +579,31 @@ fn vertex_blocks_start_as_the_identity_and_then_learn() {
         before.val_loss,
         after.val_loss
     );
+}
+
+#[test]
+fn validation_scores_edges_at_the_threshold_extraction_uses() {
+    // The manifest's final validation must describe the VAE as it ships: its edges scored at
+    // `extraction_tau` when the configuration sets one, at `model.tau` otherwise.
+    use meshflow::model::seeded_init;
+    let (device, data) = (Device::flex(), meshes());
+    let cfg = small_config(1);
+    let vae = seeded_init(MeshVae::new(&cfg.model, &device), 3);
+    let at = |tau: Option<f32>| {
+        let mut c = cfg.clone();
+        c.extraction_tau = tau;
+        validate(&vae, &data, &c, &device, 0).unwrap()
+    };
+    let plain = at(None);
+    let own = at(Some(cfg.model.tau));
+    assert_eq!(
+        (plain.edge_precision, plain.edge_recall, plain.val_loss),
+        (own.edge_precision, own.edge_recall, own.val_loss)
+    );
+    // Every pair above the lowest threshold, none above the highest; the loss keeps model.tau.
+    let all = at(Some(-1e30));
+    assert_eq!(all.edge_recall, 1.0);
+    assert_eq!(all.val_loss, plain.val_loss);
+    let none = at(Some(1e30));
+    assert_eq!((none.edge_recall, none.edge_f1), (0.0, 0.0));
 }

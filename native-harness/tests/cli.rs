@@ -266,6 +266,22 @@ const SMALL_TRAINING: &str = r#"{
   "seed": 3, "checkpoint_every": 2, "eval_every": 2, "augment": true, "scale_jitter": 0.1
 }"#;
 
+/// `meshflow train vae --data DATA --out OUT --config CONFIG` and `extra`.
+fn train_vae(data: &Path, out: &Path, config: &Path, extra: &[&str]) -> Output {
+    let mut args = vec![
+        "train",
+        "vae",
+        "--data",
+        data.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--config",
+        config.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    meshflow(&args)
+}
+
 #[test]
 fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     let dir = temp_dir("train");
@@ -274,18 +290,7 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     let config = dir.join("small.json");
     std::fs::write(&config, SMALL_TRAINING).unwrap();
     let data = fixture("dataset");
-    let out = meshflow(&[
-        "train",
-        "vae",
-        "--data",
-        data.to_str().unwrap(),
-        "--out",
-        run.to_str().unwrap(),
-        "--config",
-        config.to_str().unwrap(),
-        "--val-meshes",
-        "2",
-    ]);
+    let out = train_vae(&data, &run, &config, &["--val-meshes", "2"]);
     assert!(
         out.status.success(),
         "{}",
@@ -385,20 +390,12 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
         );
         let _ = std::fs::remove_dir_all(&out_dir);
         std::fs::write(&config, cfg.to_string()).unwrap();
-        let out = meshflow(&[
-            "train",
-            "vae",
-            "--data",
-            data.to_str().unwrap(),
-            "--out",
-            out_dir.to_str().unwrap(),
-            "--config",
-            config.to_str().unwrap(),
-            "--init",
-            run.to_str().unwrap(),
-            "--val-meshes",
-            "2",
-        ]);
+        let out = train_vae(
+            &data,
+            &out_dir,
+            &config,
+            &["--init", run.to_str().unwrap(), "--val-meshes", "2"],
+        );
         assert!(
             out.status.success(),
             "{}",
@@ -418,14 +415,7 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     assert_eq!(first_loss(1), first_loss(0));
 
     // Bad requests: an unknown configuration, a point cloud to reconstruct.
-    let out = meshflow(&[
-        "train",
-        "vae",
-        "--out",
-        run.to_str().unwrap(),
-        "--config",
-        "nope",
-    ]);
+    let out = train_vae(&data, &run, Path::new("nope"), &[]);
     assert_eq!(
         out.status.code(),
         Some(2),
@@ -448,16 +438,7 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     ] {
         let bad = dir.join("bad.json");
         std::fs::write(&bad, config).unwrap();
-        let out = meshflow(&[
-            "train",
-            "vae",
-            "--data",
-            data.to_str().unwrap(),
-            "--out",
-            fresh.to_str().unwrap(),
-            "--config",
-            bad.to_str().unwrap(),
-        ]);
+        let out = train_vae(&data, &fresh, &bad, &[]);
         let stderr = String::from_utf8_lossy(&out.stderr);
         assert_eq!(out.status.code(), Some(2), "{stderr}");
         assert!(stderr.contains(field), "{field}: {stderr}");

@@ -441,7 +441,9 @@ pub fn vae_losses_timed(
 }
 
 /// Validation figures: losses with the posterior mean, and edge precision/recall/F1 of the
-/// thresholded spacetime distances among the real vertices.
+/// spacetime distances among the real vertices, thresholded where extraction will threshold
+/// them ([`VaeTrainConfig::trained_model`]'s tau: `extraction_tau` when set, so a manifest's
+/// final validation scores the VAE as it ships).
 #[derive(Clone, Debug, Serialize)]
 pub struct ValLog {
     pub step: usize,
@@ -678,6 +680,7 @@ pub fn validate(
         (0usize, 0usize, 0usize, 0usize, 0usize);
     // Pairs by how many grid thresholds their score exceeds, edges and non-edges apart.
     let (mut edges_above, mut non_edges_above) = ([0usize; 26], [0usize; 26]);
+    let tau = cfg.trained_model().tau;
     let chunks = tokens
         .chunk_by(|a, b| a.mask.len() == b.mask.len())
         .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
@@ -713,7 +716,7 @@ pub fn validate(
             .try_into_vec::<f32>()
             .ok()?;
         for (k, t) in chunk.iter().enumerate() {
-            // One pass over the real pairs: the scores at the model's tau and the histogram
+            // One pass over the real pairs: the scores at the extraction tau and the histogram
             // over the grid (`t.edges` are real, i < j and distinct).
             let real = t.num_real;
             let mut is_edge = vec![false; real * real];
@@ -730,7 +733,7 @@ pub fn validate(
                     } else {
                         non_edges_above[above] += 1;
                     }
-                    if score > cfg.model.tau {
+                    if score > tau {
                         if edge {
                             tp += 1;
                         } else {
@@ -754,7 +757,7 @@ pub fn validate(
     } else {
         0.0
     };
-    let (best_f1, best_tau) = best_grid_f1(&edges_above, &non_edges_above, f1, cfg.model.tau);
+    let (best_f1, best_tau) = best_grid_f1(&edges_above, &non_edges_above, f1, tau);
     Some(ValLog {
         step,
         val_loss: loss / batches,
