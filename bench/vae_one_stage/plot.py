@@ -1,0 +1,58 @@
+"""One decoder stage against the shipped two: validation edge F1 (at the best tau of the grid)
+and position MSE against decoder-only wall time, for the arms of run.sh and for the shipped
+path (stage 2, then stage 3 from its end; bench/training/). Stage 2 logged F1 at tau 0.6 only,
+which the whole-split tau sweep found flat in tau for it, so that stands for its best.
+`python3 bench/vae_one_stage/plot.py [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
+ARM/metrics.jsonl (default: the thinned logs kept here); prints each curve's last validation."""
+import glob, json, os, sys
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+DIR = sys.argv[1] if len(sys.argv) > 1 else HERE
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, 'one_stage.png')
+TRAINING = os.path.join(HERE, '..', 'training')
+LABELS = {'a_vertex1': 'one stage, 1 vertex block (16,000 steps)',
+          'b_vertex2': 'one stage, 2 vertex blocks (12,000 steps)'}
+
+
+def load(path, offset=0.0):
+    rows = [json.loads(l) for l in open(path)]
+    elapsed = {r['step']: r['elapsed_s'] for r in rows if 'elapsed_s' in r}
+    val = [r for r in rows if 'val_loss' in r]
+    for r in val:  # validation lines carry no time: the last step line's at or before
+        r['minutes'] = (elapsed[max(s for s in elapsed if s <= r['step'])] + offset) / 60
+        r['f1'] = r.get('edge_f1_best_tau', r['edge_f1'])
+    return val
+
+
+stage2 = load(os.path.join(TRAINING, 'vae_decoder.metrics.jsonl'))
+stage2_s = stage2[-1]['minutes'] * 60
+shipped = stage2 + load(os.path.join(TRAINING, 'vae_vertex.metrics.jsonl'), stage2_s)
+curves = {'shipped: stage 2 (alone), then stage 3 (alone)': shipped}
+paths = {os.path.basename(p)[:-len('.metrics.jsonl')]: p
+         for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))}
+paths.update({os.path.basename(os.path.dirname(p)): p
+              for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+for arm in sorted(paths):
+    curves[LABELS.get(arm, arm)] = load(paths[arm])
+
+fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
+print('| decoder | steps | minutes | best-tau F1 (tau) | position MSE |')
+print('|---|---:|---:|---|---:|')
+for (label, val), c in zip(curves.items(), ['grey', 'tab:blue', 'tab:orange']):
+    t = [r['minutes'] for r in val]
+    axes[0].plot(t, [r['f1'] for r in val], marker='.', label=label, color=c)
+    axes[1].plot(t, [r['val_position'] for r in val], marker='.', label=label, color=c)
+    last = val[-1]
+    print(f"| {label} | {last['step']:,} | {last['minutes']:.0f} | {last['f1']:.3f} "
+          f"({last.get('best_tau', 0.6):g}) | {last['val_position']:.5f} |")
+axes[0].axvline(stage2_s / 60, color='grey', ls=':', lw=1)
+for ax, title in zip(axes, ['validation edge F1 at the best tau (pooled, 64 meshes)',
+                            'validation position MSE (model frame)']):
+    ax.set_title(title); ax.grid(alpha=.3)
+    ax.set_xlabel('decoder-only wall minutes (the arms at once, one core each)')
+axes[0].legend(loc='lower right', fontsize=8)
+axes[1].set_ylim(top=0.0075)
+fig.tight_layout(); fig.savefig(PNG, dpi=110)

@@ -1,0 +1,14 @@
+#!/usr/bin/env bash
+# One decoder stage instead of two: the stage-1 VAE (INIT, the weights shipped at 39237f8, which
+# `scripts/train_vae.sh` stage 1 writes) continued decoder-only with the stage-3 recipe (near
+# non-edges weighted 10) for the decoder-only time that stages 2 and 3 spend together, with one
+# vertex block (a_vertex1, 16,000 steps) or two (b_vertex2, 12,000 steps: a block costs about a
+# third of a step), both at once on the 2 cores, one thread each, capped at BUDGET_S.
+#   INIT=DIR bash bench/vae_one_stage/run.sh RUNS
+# then `python3 bench/vae_near_negatives/plot.py RUNS` and tau_sweep.sh as for vertex blocks.
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+RUNS="${1:?usage: INIT=DIR run.sh RUNS [ARM ...]}"; shift
+: "${INIT:?INIT=DIR: the stage-1 weights (git show 39237f8:weights/vae.*)}"
+ARMS=("$@"); [[ ${#ARMS[@]} -gt 0 ]] || ARMS=(a_vertex1 b_vertex2)
+CONFIGS="$HERE" INIT="$INIT" BUDGET_S="${BUDGET_S:-5400}" bash "$HERE/../vae_near_negatives/run.sh" "$RUNS" "${ARMS[@]}"
