@@ -3,7 +3,9 @@ and position MSE against decoder-only wall time, for the arms of run.sh and for 
 path (stage 2, then stage 3 from its end; bench/training/). Stage 2 logged F1 at tau 0.6 only,
 which the whole-split tau sweep found flat in tau for it, so that stands for its best.
 `python3 bench/vae_one_stage/plot.py [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
-ARM/metrics.jsonl (default: the thinned logs kept here); prints each curve's last validation."""
+ARM/metrics.jsonl (default: the thinned logs kept here, which the plot one_stage.png draws;
+the position-weight pair: `plot.py bench/vae_one_stage/position_weight`, which writes
+position_weight.png beside it); prints each curve's last validation."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
@@ -11,10 +13,14 @@ import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 DIR = sys.argv[1] if len(sys.argv) > 1 else HERE
-PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, 'one_stage.png')
+# Default: one_stage.png here for the logs kept here, else DIR.png beside DIR.
+PNG = sys.argv[2] if len(sys.argv) > 2 else (
+    os.path.join(HERE, 'one_stage.png') if DIR == HERE else os.path.normpath(DIR) + '.png')
 TRAINING = os.path.join(HERE, '..', 'training')
 LABELS = {'a_vertex1': 'one stage, 1 vertex block (16,000 steps)',
-          'b_vertex2': 'one stage, 2 vertex blocks (12,000 steps)'}
+          'b_vertex2': 'one stage, 2 vertex blocks (12,000 steps)',
+          'c_short_position10': 'one stage, 1 block, 8,000 steps, position weight 10',
+          'd_short_position20': 'one stage, 1 block, 8,000 steps, position weight 20'}
 
 
 def load(path, offset=0.0):
@@ -41,7 +47,7 @@ for arm in sorted(paths):
 fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
 print('| decoder | steps | minutes | best-tau F1 (tau) | position MSE |')
 print('|---|---:|---:|---|---:|')
-for (label, val), c in zip(curves.items(), ['grey', 'tab:blue', 'tab:orange']):
+for (label, val), c in zip(curves.items(), ['grey', 'tab:blue', 'tab:orange', 'tab:green']):
     t = [r['minutes'] for r in val]
     axes[0].plot(t, [r['f1'] for r in val], marker='.', label=label, color=c)
     axes[1].plot(t, [r['val_position'] for r in val], marker='.', label=label, color=c)

@@ -5,6 +5,8 @@
 # vertex block (a_vertex1, 16,000 steps) or two (b_vertex2, 12,000 steps: a block costs about a
 # third of a step), both at once on the 2 cores, one thread each, capped at BUDGET_S.
 #   INIT=DIR bash bench/vae_one_stage/run.sh RUNS
+# The follow-up pair, 8,000 steps each, position weight 10 against 20 (run beside CI):
+#   INIT=DIR BUDGET_S=3900 bash bench/vae_one_stage/run.sh RUNS c_short_position10 d_short_position20
 # then `python3 bench/vae_near_negatives/plot.py RUNS` and tau_sweep.sh as for vertex blocks.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
