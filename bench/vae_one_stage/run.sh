@@ -7,6 +7,9 @@
 #   INIT=DIR bash bench/vae_one_stage/run.sh RUNS
 # The follow-up pair, 8,000 steps each, position weight 10 against 20 (run beside CI):
 #   INIT=DIR BUDGET_S=3900 bash bench/vae_one_stage/run.sh RUNS c_short_position10 d_short_position20
+# The full-length candidate that pair points to (one block, 16,000 steps, position weight 20),
+# alone on both cores; it resumes from its checkpoints when interrupted:
+#   meshflow train vae --out RUN --init DIR --config bench/vae_one_stage/e_vertex1_position20.json
 # then `python3 bench/vae_near_negatives/plot.py RUNS` and tau_sweep.sh as for vertex blocks.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
