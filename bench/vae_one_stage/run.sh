@@ -10,7 +10,7 @@
 # The full-length candidate that pair points to (one block, 16,000 steps, position weight 20),
 # alone on both cores; it resumes from its checkpoints when interrupted:
 #   meshflow train vae --out RUN --init DIR --config bench/vae_one_stage/e_vertex1_position20.json
-# then `python3 bench/vae_near_negatives/plot.py RUNS` and tau_sweep.sh as for vertex blocks.
+# then `python3 bench/vae_one_stage/plot.py RUNS` and bench/vae_near_negatives/tau_sweep.sh.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 RUNS="${1:?usage: INIT=DIR run.sh RUNS [ARM ...]}"; shift

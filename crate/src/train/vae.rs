@@ -457,7 +457,7 @@ pub struct ValLog {
     pub edge_f1: f64,
     /// The best pooled F1 over the thresholds of [`TAU_GRID`], and its tau: a loss that weighs
     /// non-edges differently moves where edge and non-edge scores cross, so runs are compared
-    /// here as well as at the model's tau.
+    /// here as well as at the scored threshold above.
     pub edge_f1_best_tau: f64,
     pub best_tau: f32,
     pub mask_accuracy: f64,
