@@ -81,9 +81,9 @@ fn flow_loss_falls_on_fixed_latents() {
         stop_at: None,
         last: 0,
     };
-    let (weights, steps, _) =
-        train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
-    assert_eq!(steps, 150);
+    let trained = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
+    assert_eq!(trained.steps, 150);
+    let weights = trained.weights;
     let dit = meshflow::model::load_module(
         meshflow::model::dit::Dit::new(&cfg.model, &device),
         &weights,
@@ -109,21 +109,28 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
         stop_at: None,
         last: 0,
     };
-    let (a, _, _) = train_dit(&cfg, None, &data, &data, &a_dir, &device, &mut quiet).unwrap();
+    let a = train_dit(&cfg, None, &data, &data, &a_dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
     let b_dir = temp_dir("b");
     let mut stopping = Quiet {
         stop_at: Some(4),
         last: 0,
     };
-    let (_, partial, _) =
-        train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut stopping).unwrap();
-    assert_eq!(partial, 4);
+    let partial = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut stopping).unwrap();
+    assert_eq!(partial.steps, 4);
+    assert_eq!(partial.earlier_s, 0.0, "a fresh run has no earlier time");
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let (b, steps, _) = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut quiet).unwrap();
-    assert_eq!(steps, 8);
+    let resumed = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut quiet).unwrap();
+    assert_eq!(resumed.steps, 8);
+    assert!(
+        resumed.earlier_s > 0.0,
+        "a resumed run knows the time its first process trained"
+    );
+    let b = resumed.weights;
     let diff = |x: &meshflow::model::TensorMap, y: &meshflow::model::TensorMap| -> f32 {
         x.tensors
             .iter()
@@ -136,7 +143,9 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
             .fold(0.0, f32::max)
     };
     let c_dir = temp_dir("c");
-    let (c, _, _) = train_dit(&cfg, None, &data, &data, &c_dir, &device, &mut quiet).unwrap();
+    let c = train_dit(&cfg, None, &data, &data, &c_dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
     eprintln!(
         "straight vs straight {:e}, straight vs resumed {:e}",
         diff(&a, &c),

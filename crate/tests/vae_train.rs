@@ -194,6 +194,19 @@ fn a_run_killed_after_a_checkpoint_resumes_with_the_same_metrics_and_weights() {
     let b = train_vae(&cfg, &data, &data, &killed, &device, &mut quiet).unwrap();
 
     assert_eq!(a.weights, b.weights, "same weights as the unbroken run");
+    // The time axis goes on from the checkpoint's time instead of starting again at 0, so a
+    // resumed run's curves plot against time as an unbroken run's do.
+    let elapsed: Vec<f64> = std::fs::read_to_string(killed.join("metrics.jsonl"))
+        .unwrap()
+        .lines()
+        .filter_map(|l| serde_json::from_str::<serde_json::Value>(l).ok()?["elapsed_s"].as_f64())
+        .collect();
+    assert_eq!(elapsed.len(), 12);
+    assert!(
+        elapsed.windows(2).all(|w| w[1] >= w[0]),
+        "elapsed_s never goes back across the resume: {elapsed:?}"
+    );
+    assert!(b.earlier_s > 0.0 && b.earlier_s <= elapsed[8]);
     let (la, lb) = (step_losses(&straight), step_losses(&killed));
     assert_eq!(la.len(), 12);
     assert_eq!(

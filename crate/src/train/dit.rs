@@ -21,7 +21,7 @@ use glam::Vec3;
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::run::{Schedule, StepOutcome, Task, run_training};
+use super::run::{Schedule, StepOutcome, Task, Trained, run_training};
 use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
 use crate::data::degrade::{Degradation, degrade};
@@ -429,8 +429,8 @@ pub struct NoPosition {}
 /// Trains the DiT on cached latents ([`run_training`]), with checkpoints and `metrics.jsonl`
 /// under `out_dir`; resumes from `out_dir/checkpoint` when its configuration matches. Starts
 /// from `init` (trained weights of the same configuration, to fine-tune) or a seeded
-/// initialisation. Returns the weights to ship (the EMA when enabled), the steps and the last
-/// validation record.
+/// initialisation. Returns the weights to ship (the EMA when enabled), the steps, the last
+/// validation record and the time earlier processes spent on a resumed run.
 pub fn train_dit(
     cfg: &DitTrainConfig,
     init: Option<&TensorMap>,
@@ -439,7 +439,7 @@ pub fn train_dit(
     out_dir: &Path,
     device: &Device,
     observer: &mut dyn TrainObserver,
-) -> Result<(TensorMap, usize, Option<DitValidation>), TrainError> {
+) -> Result<Trained<DitValidation>, TrainError> {
     cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
     let d = cfg.model.latent_dim;
@@ -495,5 +495,5 @@ pub fn train_dit(
         device,
         observer,
     )?;
-    Ok((trained.weights, trained.steps, trained.last_validation))
+    Ok(trained)
 }

@@ -83,15 +83,23 @@ pub struct Trained<V> {
     pub weights: TensorMap,
     pub steps: usize,
     pub last_validation: Option<V>,
+    /// Seconds of training that earlier processes spent on this run before it resumed (0 for
+    /// a fresh run), so a manifest's wall time covers the whole run.
+    pub earlier_s: f64,
 }
 
 /// A checkpoint's state file: the configuration (a run resumes only with the same one), the
-/// step, the RNG state to continue from and the data position.
+/// step, the RNG state to continue from, the training time so far and the data position.
 #[derive(Serialize, Deserialize)]
 struct RunState<C, P> {
     config: C,
     step: usize,
     rng: u64,
+    /// Seconds of training up to this checkpoint, over every process that ran it: a resumed
+    /// run's `elapsed_s` goes on from here, as an unbroken run's would (checkpoints written
+    /// before this field existed read 0).
+    #[serde(default)]
+    elapsed_s: f64,
     #[serde(flatten)]
     position: P,
 }
@@ -120,6 +128,7 @@ where
         config: config.clone(),
         step: 0,
         rng: schedule.seed,
+        elapsed_s: 0.0,
         position: T::Position::default(),
     };
     let mut ema_map: Option<TensorMap> = None;
@@ -142,7 +151,9 @@ where
     };
 
     let mut rng = Rng::new(state.rng);
+    let earlier_s = state.elapsed_s;
     let started = Instant::now();
+    let elapsed_s = || earlier_s + started.elapsed().as_secs_f64();
     // Throughput over a window of up to 10 steps of this process (not inflated by a resume).
     let mut window = (Instant::now(), 0usize);
     let mut last_validation = None;
@@ -184,7 +195,7 @@ where
         }
         line.insert("grad_norm".into(), out.grad_norm.into());
         line.insert(T::THROUGHPUT.into(), rate.into());
-        line.insert("elapsed_s".into(), started.elapsed().as_secs_f64().into());
+        line.insert("elapsed_s".into(), elapsed_s().into());
         writeln!(log, "{}", serde_json::Value::Object(line))?;
         observer.step(
             state.step,
@@ -205,6 +216,7 @@ where
             // The generator's whole state, so a run resumed from any checkpoint (a scheduled
             // one or a stop) draws the same numbers as an unbroken run.
             state.rng = rng.state();
+            state.elapsed_s = elapsed_s();
             let ema_map = ema.as_ref().map(|e| e.to_map(&model));
             paths.save(
                 &module_tensors(&model),
@@ -222,5 +234,6 @@ where
         weights,
         steps: state.step,
         last_validation,
+        earlier_s,
     })
 }

@@ -19,6 +19,7 @@ use crate::pipeline::shipped::{
     load_vae_dir, read_shipped, sha256_hex, write_weights,
 };
 use crate::train::dit::{DitTrainConfig, LatentExample, encode_latents, train_dit};
+use crate::train::run::Trained;
 use crate::train::vae::{VaeTrainConfig, latent_statistics, train_vae_from};
 use crate::train::{TrainError, TrainObserver, data_version};
 
@@ -217,7 +218,7 @@ impl VaeRun {
             device,
             observer,
         )?;
-        let wall_s = started.elapsed().as_secs_f64();
+        let wall_s = trained.earlier_s + started.elapsed().as_secs_f64();
         let vae = load_module(MeshVae::new(&cfg.model, device), &trained.weights, &|_| {
             false
         })?;
@@ -360,7 +361,12 @@ impl DitRun {
     ) -> Result<RunSummary, RunError> {
         let (cfg, out) = (&self.config, target.out);
         std::fs::create_dir_all(out)?;
-        let (weights, steps, last_val) = train_dit(
+        let Trained {
+            weights,
+            steps,
+            last_validation: last_val,
+            earlier_s,
+        } = train_dit(
             cfg,
             self.init.as_ref().map(|(map, _)| map),
             &self.train,
@@ -370,7 +376,7 @@ impl DitRun {
             observer,
         )?;
         let bytes = weights.to_safetensors(None);
-        let wall_s = self.started.elapsed().as_secs_f64();
+        let wall_s = earlier_s + self.started.elapsed().as_secs_f64();
         let manifest = DitManifest {
             model: cfg.model.clone(),
             sha256: sha256_hex(&bytes),

@@ -480,6 +480,8 @@ pub struct TrainedVae {
     pub weights: TensorMap,
     pub steps: usize,
     pub last_val: Option<ValLog>,
+    /// Seconds earlier processes trained this run before it resumed (0 for a fresh run).
+    pub earlier_s: f64,
 }
 
 /// Tokens of `mesh` for the model (None when it has too many vertices or is invalid).
@@ -989,6 +991,7 @@ pub fn train_vae_from(
         weights,
         steps: trained.steps,
         last_val: trained.last_validation,
+        earlier_s: trained.earlier_s,
     })
 }
 
