@@ -44,10 +44,29 @@ export function serve(port = 0) {
       res.end(e.code === 'ENOENT' ? 'not found' : String(e));
     }
   });
-  return new Promise((ok) => server.listen(port, '127.0.0.1', () => ok(server)));
+  return new Promise((ok, fail) => {
+    // A port already taken (often an earlier demo still serving) is the common failure:
+    // say which port and how to pick another instead of Node's stack trace.
+    server.once('error', (e) =>
+      fail(
+        e.code === 'EADDRINUSE'
+          ? new Error(
+              `port ${port} on 127.0.0.1 is already in use (an earlier demo still serving?); ` +
+                'pass another: node web/serve.mjs 8081, or MESHFLOW_PORT=8081 bash scripts/demo.sh',
+            )
+          : e,
+      ),
+    );
+    server.listen(port, '127.0.0.1', () => ok(server));
+  });
 }
 
 if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
-  const server = await serve(Number(process.argv[2] ?? 8080));
-  console.log(`MeshFlow: http://127.0.0.1:${server.address().port}/web/`);
+  try {
+    const server = await serve(Number(process.argv[2] ?? 8080));
+    console.log(`MeshFlow: http://127.0.0.1:${server.address().port}/web/`);
+  } catch (e) {
+    console.error(`MeshFlow: ${e.message}`);
+    process.exit(1);
+  }
 }

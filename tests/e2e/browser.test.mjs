@@ -105,6 +105,14 @@ page.on('console', (m) => {
 });
 page.on('pageerror', (e) => consoleErrors.push(e.message));
 
+await check('serving on a port already in use fails with a message naming the port', async () => {
+  const port = server.address().port;
+  let error;
+  await serve(port).then((s) => s.close(), (e) => (error = e));
+  assert(error, 'a second server on the same port did not fail');
+  assert(error.message.includes(`port ${port}`) && error.message.includes('MESHFLOW_PORT'), error.message);
+});
+
 await check('the page loads the model on WebGPU when asked and says so', async () => {
   await page.goto(`${base}/web/?backend=webgpu`);
   await page.screenshot({ path: join(out, 'before.png') });
