@@ -3,15 +3,13 @@
 #
 # 1. RUN/base: `meshflow train vae --config weights/vae.train.json` (10,000 steps of the whole
 #    VAE; about 55-60 minutes alone on the 2-core CPU);
-# 2. RUN/decoder: `meshflow train vae --config weights/vae.decoder.train.json --init RUN/base`
-#    (14,000 steps of the decoder alone, about 45 minutes): the encoder, and so the latent space
-#    the shipped DiT was trained on, stays bit for bit the first stage's.
-# 3. RUN/vertex: `meshflow train vae --config weights/vae.vertex.train.json --init RUN/decoder`
-#    (8,800 steps of the decoder alone, about 40 minutes): one self-attention block over the
-#    vertex tokens added (starting as the identity), near non-edges weighted 10, written with
-#    the extraction threshold chosen on the validation split (tau -2.5); the encoder again
-#    stays bit for bit.
-# RUN/vertex/vae.* are the files to ship. Every stage resumes from its checkpoints when
+# 2. RUN/vertex: `meshflow train vae --config weights/vae.vertex.train.json --init RUN/base`
+#    (16,000 steps of the decoder alone, about 72 minutes): one self-attention block over the
+#    vertex tokens added (starting as the identity), near non-edges weighted 10, positions
+#    weighted 40, written with the extraction threshold chosen on the validation split
+#    (tau -2.5). The encoder, and so the latent space the shipped DiT was trained on, stays
+#    bit for bit the first stage's.
+# RUN/vertex/vae.* are the files to ship. Both stages resume from their checkpoints when
 # interrupted; each logs to RUN/<stage>/train.log and RUN/<stage>/metrics.jsonl.
 set -euo pipefail
 
@@ -22,8 +20,5 @@ source "$(dirname "${BASH_SOURCE[0]}")/train_stages.sh"
 if [[ ! -f "$RUN/base/vae.manifest.json" ]]; then
     stage "$RUN/base" train vae --config weights/vae.train.json
 fi
-if [[ ! -f "$RUN/decoder/vae.manifest.json" ]]; then
-    stage "$RUN/decoder" train vae --config weights/vae.decoder.train.json --init "$RUN/base"
-fi
-stage "$RUN/vertex" train vae --config weights/vae.vertex.train.json --init "$RUN/decoder"
+stage "$RUN/vertex" train vae --config weights/vae.vertex.train.json --init "$RUN/base"
 echo "[train_vae.sh] ship: cp $RUN/vertex/vae.{safetensors,json,manifest.json} weights/"

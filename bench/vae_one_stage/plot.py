@@ -5,7 +5,8 @@ which the whole-split tau sweep found flat in tau for it, so that stands for its
 `python3 bench/vae_one_stage/plot.py [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
 ARM/metrics.jsonl (default: the thinned logs kept here, which the plot one_stage.png draws;
 the position-weight pair: `plot.py bench/vae_one_stage/position_weight`, which writes
-position_weight.png beside it); prints each curve's last validation."""
+position_weight.png beside it; the full-length position weights: `plot.py
+bench/vae_one_stage/position_full`); prints each curve's last validation."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
@@ -20,7 +21,9 @@ TRAINING = os.path.join(HERE, '..', 'training')
 LABELS = {'a_vertex1': 'one stage, 1 vertex block (16,000 steps)',
           'b_vertex2': 'one stage, 2 vertex blocks (12,000 steps)',
           'c_short_position10': 'one stage, 1 block, 8,000 steps, position weight 10',
-          'd_short_position20': 'one stage, 1 block, 8,000 steps, position weight 20'}
+          'd_short_position20': 'one stage, 1 block, 8,000 steps, position weight 20',
+          'e_vertex1_position20': 'one stage, 1 block, 16,000 steps, position weight 20',
+          'f_vertex1_position40': 'one stage, 1 block, 16,000 steps, position weight 40'}
 
 
 def load(path, offset=0.0):
@@ -47,7 +50,7 @@ for arm in sorted(paths):
 fig, axes = plt.subplots(1, 2, figsize=(13, 4.4))
 print('| decoder | steps | minutes | best-tau F1 (tau) | position MSE |')
 print('|---|---:|---:|---|---:|')
-for (label, val), c in zip(curves.items(), ['grey', 'tab:blue', 'tab:orange', 'tab:green']):
+for (label, val), c in zip(curves.items(), ['grey', 'tab:blue', 'tab:orange', 'tab:green', 'tab:red']):
     t = [r['minutes'] for r in val]
     axes[0].plot(t, [r['f1'] for r in val], marker='.', label=label, color=c)
     axes[1].plot(t, [r['val_position'] for r in val], marker='.', label=label, color=c)

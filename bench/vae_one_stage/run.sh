@@ -10,7 +10,9 @@
 # The full-length candidate that pair points to (one block, 16,000 steps, position weight 20),
 # alone on both cores; it resumes from its checkpoints when interrupted:
 #   meshflow train vae --out RUN --init DIR --config bench/vae_one_stage/e_vertex1_position20.json
-# then `python3 bench/vae_one_stage/plot.py RUNS` and bench/vae_near_negatives/tau_sweep.sh.
+# and its position-weight-40 twin (f_vertex1_position40.json, shipped at stop 38 as
+# weights/vae.vertex.train.json), run beside it on one thread (RAYON_NUM_THREADS=1);
+# then `python3 bench/vae_one_stage/plot.py DIR` and bench/vae_near_negatives/tau_sweep.sh.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 RUNS="${1:?usage: INIT=DIR run.sh RUNS [ARM ...]}"; shift

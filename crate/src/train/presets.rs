@@ -180,11 +180,11 @@ mod tests {
     fn the_shipped_weights_were_trained_last_by_the_last_stage_configs() {
         let vertex = vae_config(shipped("vae.vertex.train.json").to_str().unwrap()).unwrap();
         assert_eq!(vertex, recorded::<VaeTrainConfig>("vae.manifest.json"));
-        // Each VAE stage after the first continues the one before: the same encoder, and a
-        // decoder that keeps the previous stage's trained one.
-        let decoder = vae_config(shipped("vae.decoder.train.json").to_str().unwrap()).unwrap();
-        assert!(vertex.decoder_only && decoder.decoder_only);
-        assert!(vertex.model.continues_decoder_of(&decoder.model));
+        // The second and last VAE stage continues the first: the same encoder, and a decoder
+        // that keeps the first stage's trained one.
+        let base = vae_config(shipped("vae.train.json").to_str().unwrap()).unwrap();
+        assert!(vertex.decoder_only && !base.decoder_only);
+        assert!(vertex.model.continues_decoder_of(&base.model));
         let continued = dit_config(&shipped("dit.continue.train.json")).unwrap();
         assert_eq!(continued, recorded::<DitTrainConfig>("dit.manifest.json"));
         // The continuation keeps the first stage's model, so `--init` loads it.
