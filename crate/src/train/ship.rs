@@ -242,7 +242,7 @@ impl VaeRun {
                 self.init.as_ref().map(|(_, m)| m.sha256.clone()),
                 &self.shards,
                 self.train.len(),
-                &trained.last_val,
+                &trained.last_validation,
                 wall_s,
             )?,
         };

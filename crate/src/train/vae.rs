@@ -21,7 +21,7 @@ use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
-use super::run::{Schedule, StepOutcome, Task, run_training};
+use super::run::{Schedule, StepOutcome, Task, Trained, run_training};
 use super::{DeviceEma, TrainError, TrainObserver, scalar, warmup_cosine};
 use crate::Mesh;
 use crate::data::augment::{AugmentOptions, augment_mesh};
@@ -474,16 +474,6 @@ pub const TAU_GRID: [f32; 25] = {
     grid
 };
 
-/// What training produced.
-pub struct TrainedVae {
-    /// The weights to ship (the EMA when enabled).
-    pub weights: TensorMap,
-    pub steps: usize,
-    pub last_val: Option<ValLog>,
-    /// Seconds earlier processes trained this run before it resumed (0 for a fresh run).
-    pub earlier_s: f64,
-}
-
 /// Tokens of `mesh` for the model (None when it has too many vertices or is invalid).
 fn tokens_of(mesh: &Mesh, cfg: &VaeConfig, seed: u64) -> Option<VertexTokens> {
     build_tokens(mesh, &cfg.tokens_for(mesh.positions.len()), seed).ok()
@@ -919,7 +909,7 @@ pub fn train_vae(
     out_dir: &Path,
     device: &Device,
     observer: &mut dyn TrainObserver,
-) -> Result<TrainedVae, TrainError> {
+) -> Result<Trained<ValLog>, TrainError> {
     train_vae_from(cfg, None, train, val, out_dir, device, observer)
 }
 
@@ -936,7 +926,7 @@ pub fn train_vae_from(
     out_dir: &Path,
     device: &Device,
     observer: &mut dyn TrainObserver,
-) -> Result<TrainedVae, TrainError> {
+) -> Result<Trained<ValLog>, TrainError> {
     cfg.validate()
         .map_err(|e| TrainError::Weights(WeightsError::Config(e)))?;
     if cfg.decoder_only && init.is_none() {
@@ -970,7 +960,7 @@ pub fn train_vae_from(
         ad_device,
         device: device.clone(),
     };
-    let trained = run_training(
+    let mut trained = run_training(
         &mut task,
         cfg,
         &cfg.schedule(),
@@ -979,20 +969,14 @@ pub fn train_vae_from(
         device,
         observer,
     )?;
-    let mut weights = trained.weights;
     if let (true, Some(init)) = (cfg.decoder_only, init) {
         for (name, tensor) in &init.tensors {
             if is_encoder_side(name) {
-                weights.tensors.insert(name.clone(), tensor.clone());
+                trained.weights.tensors.insert(name.clone(), tensor.clone());
             }
         }
     }
-    Ok(TrainedVae {
-        weights,
-        steps: trained.steps,
-        last_val: trained.last_validation,
-        earlier_s: trained.earlier_s,
-    })
+    Ok(trained)
 }
 
 /// Per-channel mean and standard deviation of the posterior means over `meshes` (the
