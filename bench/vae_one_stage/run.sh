@@ -12,8 +12,9 @@
 #   meshflow train vae --out RUN --init DIR --config bench/vae_one_stage/e_vertex1_position20.json
 # and its position-weight-40 twin (f_vertex1_position40.json, shipped at stop 38 as
 # weights/vae.vertex.train.json), run beside it on one thread (RAYON_NUM_THREADS=1); stop 38
-# started g_vertex1_position80.json (position weight 80) the same way, to be resumed and judged;
-# then `python3 bench/vae_one_stage/plot.py DIR` and bench/vae_near_negatives/tau_sweep.sh.
+# started g_vertex1_position80.json (position weight 80) the same way; stop 39 resumed it beside
+# h_vertex1_position160.json (position weight 160), one thread each;
+# then `python3 bench/vae_one_stage/plot.py --steps DIR` and bench/vae_near_negatives/tau_sweep.sh.
 set -euo pipefail
 HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
 RUNS="${1:?usage: INIT=DIR run.sh RUNS [ARM ...]}"; shift
