@@ -129,12 +129,15 @@ pub fn cpu_name() -> String {
         .unwrap_or_else(|| "unknown CPU".into())
 }
 
-/// The CPU and the threads available, as a training manifest or a benchmark records the
-/// machine: "`cpu_name`, N threads".
+/// The CPU and the threads the work runs on, as a training manifest or a benchmark records the
+/// machine: "`cpu_name`, N threads". N is the thread pool's size (Burn's CPU backend and the
+/// per-input stages share rayon's global pool), so a run limited by `RAYON_NUM_THREADS=1`
+/// beside another says 1, not the machine's core count.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn machine_description() -> String {
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    format!("{}, {cores} threads", cpu_name())
+    let threads = rayon::current_num_threads();
+    let plural = if threads == 1 { "" } else { "s" };
+    format!("{}, {threads} thread{plural}", cpu_name())
 }
 
 #[cfg(test)]
@@ -152,5 +155,20 @@ mod tests {
             err.contains("\"gpu\"") && err.contains("cpu, wgpu, ndarray"),
             "{err}"
         );
+    }
+
+    /// The recorded thread count is the pool the work runs in, not the machine's cores.
+    #[cfg(not(target_arch = "wasm32"))]
+    #[test]
+    fn machine_description_counts_the_pool_it_runs_in() {
+        let in_pool = |n| {
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .unwrap();
+            pool.install(super::machine_description)
+        };
+        assert!(in_pool(1).ends_with(", 1 thread"), "{}", in_pool(1));
+        assert!(in_pool(3).ends_with(", 3 threads"), "{}", in_pool(3));
     }
 }
