@@ -6,7 +6,7 @@
 # 2. RUN/vertex: `meshflow train vae --config weights/vae.vertex.train.json --init RUN/base`
 #    (16,000 steps of the decoder alone, about 72 minutes): one self-attention block over the
 #    vertex tokens added (starting as the identity), near non-edges weighted 10, positions
-#    weighted 40, written with the extraction threshold chosen on the validation split
+#    weighted 80, written with the extraction threshold chosen on the validation split
 #    (tau -2.5). The encoder, and so the latent space the shipped DiT was trained on, stays
 #    bit for bit the first stage's.
 # RUN/vertex/vae.* are the files to ship. Both stages resume from their checkpoints when
