@@ -129,13 +129,20 @@ pub fn cpu_name() -> String {
         .unwrap_or_else(|| "unknown CPU".into())
 }
 
+/// The threads the work runs on: the size of rayon's pool, which Burn's CPU backend and the
+/// per-input stages share (`RAYON_NUM_THREADS` sets it), not the machine's core count.
+#[cfg(not(target_arch = "wasm32"))]
+pub fn threads() -> usize {
+    rayon::current_num_threads()
+}
+
 /// The CPU and the threads the work runs on, as a training manifest or a benchmark records the
 /// machine: "`cpu_name`, N threads". N is the thread pool's size (Burn's CPU backend and the
 /// per-input stages share rayon's global pool), so a run limited by `RAYON_NUM_THREADS=1`
 /// beside another says 1, not the machine's core count.
 #[cfg(not(target_arch = "wasm32"))]
 pub fn machine_description() -> String {
-    let threads = rayon::current_num_threads();
+    let threads = threads();
     let plural = if threads == 1 { "" } else { "s" };
     format!("{}, {threads} thread{plural}", cpu_name())
 }

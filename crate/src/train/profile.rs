@@ -73,7 +73,7 @@ pub fn profile_report(
                  backend runs eagerly); FLOPs are the matrix products only \
                  (VaeConfig::forward_flops at each batch's slot count, x 3)",
         cpu: crate::device::cpu_name(),
-        threads: std::thread::available_parallelism().map_or(1, |n| n.get()),
+        threads: crate::device::threads(),
         config: config_name.into(),
         batch_size: cfg.batch_size,
         num_vertices: cfg.model.num_vertices,
