@@ -6,7 +6,8 @@ which the whole-split tau sweep found flat in tau for it, so that stands for its
 ARM/metrics.jsonl (default: the thinned logs kept here, which the plot one_stage.png draws;
 the position-weight pair: `plot.py bench/vae_one_stage/position_weight`, which writes
 position_weight.png beside it; the full-length position weights: `plot.py
---steps bench/vae_one_stage/position_full`); prints each curve's last validation. `--steps`
+--steps bench/vae_one_stage/position_full`; latent 64 against 32 at the shipped recipe: `plot.py
+--steps bench/vae_latent64/position80`); prints each curve's last validation. `--steps`
 puts training steps on the x axis instead of wall time, for arms that did not run under the
 same conditions (the position_full arms ran alone, beside CI or beside each other)."""
 import glob, json, os, sys
@@ -29,7 +30,8 @@ LABELS = {'a_vertex1': 'one stage, 1 vertex block (16,000 steps)',
           'e_vertex1_position20': 'one stage, 1 block, 16,000 steps, position weight 20',
           'f_vertex1_position40': 'one stage, 1 block, 16,000 steps, position weight 40',
           'g_vertex1_position80': 'one stage, 1 block, 16,000 steps, position weight 80',
-          'h_vertex1_position160': 'one stage, 1 block, 16,000 steps, position weight 160'}
+          'h_vertex1_position160': 'one stage, 1 block, 16,000 steps, position weight 160',
+          'ld64_vertex': 'latent 64: one stage, 1 block, 16,000 steps, position weight 80'}
 COLOURS = ['grey', 'tab:blue', 'tab:orange', 'tab:green', 'tab:red', 'tab:purple', 'tab:brown',
            'tab:pink', 'tab:olive', 'tab:cyan']
 
