@@ -30,6 +30,7 @@ fn config(steps: usize) -> DitTrainConfig {
         width: 48,
         depth: 2,
         num_heads: 2,
+        point_tokens: 0,
     });
     cfg.batch_size = 4;
     cfg.steps = steps;
@@ -259,4 +260,70 @@ fn position_augment_draws_positions_as_inference_does() {
     let (whole, cut) = (covering(&clean, &mut rng), covering(&partial, &mut rng));
     eprintln!("covering radius {whole:.1} voxels clean, {cut:.1} with a region missing");
     assert!(cut > 1.3 * whole, "{whole} -> {cut}");
+}
+
+/// Eight examples whose token positions and vertex counts are all the same, so nothing but
+/// the input points tells an example whose latents are +pattern (points near +x) from one
+/// whose are -pattern (points near -x).
+fn two_sided_examples() -> Vec<LatentExample> {
+    let mut rng = Rng::new(17);
+    let pattern: Vec<f32> = (0..16 * 8).map(|_| rng.normal() as f32).collect();
+    (0..8)
+        .map(|k| {
+            let side = if k % 2 == 0 { 1.0 } else { -1.0 };
+            let surface = (0..256)
+                .map(|_| {
+                    let jitter = glam::Vec3::new(
+                        rng.normal() as f32,
+                        rng.normal() as f32,
+                        rng.normal() as f32,
+                    );
+                    glam::Vec3::new(0.6 * side, 0.0, 0.0) + jitter * 0.1
+                })
+                .collect();
+            LatentExample {
+                latents: pattern.iter().map(|v| v * side).collect(),
+                positions: vec![[16.0; 3]; 16],
+                vertex_count: 40,
+                merge_ratio: 2,
+                surface,
+            }
+        })
+        .collect()
+}
+
+#[test]
+fn a_dit_that_reads_points_learns_what_only_the_points_say() {
+    let device = Device::flex();
+    let data = two_sided_examples();
+    let trained_loss = |point_tokens: usize| {
+        let mut cfg = config(1500);
+        cfg.model.point_tokens = point_tokens;
+        cfg.ema_decay = None;
+        let dir = temp_dir(&format!("points{point_tokens}"));
+        let mut quiet = Quiet {
+            stop_at: None,
+            last: 0,
+        };
+        let trained = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
+        let dit = meshflow::model::load_module(
+            meshflow::model::dit::Dit::new(&cfg.model, &device),
+            &trained.weights,
+            &|_| false,
+        )
+        .unwrap();
+        let _ = std::fs::remove_dir_all(&dir);
+        (
+            validate_dit(&dit, &cfg, &data, &device),
+            trained.weights.tensors.len(),
+        )
+    };
+    let (blind, blind_tensors) = trained_loss(0);
+    let (sighted, sighted_tensors) = trained_loss(16);
+    eprintln!("flow loss without points {blind:.4}, with 16 points {sighted:.4}");
+    // The point path adds the embedder (4 tensors) and per block a norm and an attention
+    // (8 tensors); its weights round-trip through the saved map.
+    assert_eq!(sighted_tensors, blind_tensors + 4 + 2 * 8);
+    // 1.19 -> 0.91 when this was written (sighted flow matching can reach 0: x_0 is known).
+    assert!(sighted < 0.85 * blind, "{blind} -> {sighted}");
 }

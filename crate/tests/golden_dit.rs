@@ -6,7 +6,7 @@ mod common;
 
 use burn::tensor::{Device, Tensor};
 use common::{Golden, max_abs_diff};
-use meshflow::model::dit::{Dit, DitConfig, Rope, is_image_path, time_features};
+use meshflow::model::dit::{Condition, Dit, DitConfig, is_image_path, time_features};
 use meshflow::model::golden::{TOLERANCE, verify_dit};
 use meshflow::model::{TensorMap, load_module};
 
@@ -107,7 +107,7 @@ fn sampling_can_be_cancelled_between_steps() {
     use meshflow::model::schedule::ScheduleMode;
     let device = Device::flex();
     let (_, dit) = load(&device);
-    let rope = Rope::new(&[[0.0; 3]; 16], 1, 24, &device);
+    let condition = Condition::new(&DitConfig::dit_small(), &[[0.0; 3]; 16], &[], 1, &device);
     let noise = Tensor::<3>::zeros([1, 16, 8], &device);
     let cond = Tensor::<2>::ones([1, 1], &device);
     let mut seen = 0;
@@ -115,7 +115,7 @@ fn sampling_can_be_cancelled_between_steps() {
         &dit,
         noise,
         cond,
-        &rope,
+        &condition,
         28,
         ScheduleMode::ToZero,
         Solver::Heun,

@@ -18,9 +18,14 @@
 //! points 10.79 / 23.86.
 //!
 //! The vertex-count condition is `vertex_count / num_latents` (docs/design.md section 2).
+//!
+//! A DiT that also cross-attends to input points ([`context_points`]) gets a seeded uniform
+//! subset of them, in training of its mesh's surface samples: both are uniform over the
+//! surface, so they match statistically.
 
 use glam::Vec3;
 
+use crate::geometry::sample::subsample_points;
 use crate::geometry::voxel::voxel_index;
 use crate::model::tokens::{VertexTokens, vertex_order};
 use crate::rng::Rng;
@@ -94,6 +99,17 @@ fn farthest_points(surface: &[Vec3], count: usize, rng: &mut Rng) -> Vec<Vec3> {
         }
     }
     picked
+}
+
+/// `count` of the input's points (model frame) for a DiT that cross-attends to points
+/// ([`crate::model::dit::DitConfig::point_tokens`]): a seeded uniform subset, as training
+/// draws from its meshes' surface samples, repeating points evenly when there are fewer;
+/// the origin when there are none.
+pub fn context_points(surface: &[Vec3], count: usize, seed: u64) -> Vec<Vec3> {
+    if surface.is_empty() {
+        return vec![Vec3::ZERO; count];
+    }
+    subsample_points(surface, count, seed)
 }
 
 /// The vertex-count condition fed to the time embedding.

@@ -7,11 +7,20 @@
 //! reference's (golden `dit_small`). The reference's image cross-attention (`attn2`, `norm2`)
 //! is not built; its tensors are ignored when loading.
 //!
+//! Optionally (this project's extension, [`DitConfig::point_tokens`] > 0) every block also
+//! cross-attends to a random subset of the input points, gated by the block's seventh AdaLN
+//! chunk (the reference's `gate_cross`). The paper's DiT sees the input only through its
+//! tokens' voxel positions, one surface point per token at 1/32 of the box; the extension
+//! lets a token read the surface near it at full precision, with RoPE-3D on the queries
+//! (token voxels) and keys (the points' continuous voxel coordinates), so attention is local
+//! by relative position as in self-attention.
+//!
 //! ```text
 //! temb = MLP(sinusoid(1000 t) + cond_proj(vertex_count / num_latents))
 //! h = x_embedder(x)
 //! block i: [i > depth/2: h = RMSNorm(skip_linear([skip | h]) + skip_gate h)]
 //!          h += gate_msa  attn(modulate(RMSNorm1 h), RoPE-3D)
+//!          [points: h += gate_cross point_attn(RMSNorm h, point_embedder(Fourier(p)))]
 //!          h += gate_mlp  MLP(modulate(RMSNorm3 h))
 //!          [i < depth/2: push h]
 //! out = final_layer(final_norm h)
@@ -23,12 +32,19 @@ use burn::tensor::activation::{gelu, silu};
 use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
+use glam::Vec3;
+
 use super::layers::{Attention, linear};
+use super::tokens::fourier_embed;
 
 /// RMSNorm epsilon of the DiT.
 pub const DIT_NORM_EPS: f64 = 1e-6;
 /// Voxel grid of the RoPE positions.
 pub const ROPE_GRID: usize = 32;
+/// Most input points a DiT may cross-attend to (attention grows with their number).
+pub const MAX_POINT_TOKENS: usize = 4096;
+/// Fourier frequencies of the input points' features (`3 + 6 POINT_FREQS` channels).
+pub const POINT_FREQS: usize = 8;
 
 /// Size of a DiT. Stored as JSON beside the weights.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -41,6 +57,14 @@ pub struct DitConfig {
     pub width: usize,
     pub depth: usize,
     pub num_heads: usize,
+    /// Input points every block cross-attends to (see the module doc); 0, the paper's
+    /// layout, attends to none.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub point_tokens: usize,
+}
+
+fn is_zero(n: &usize) -> bool {
+    *n == 0
 }
 
 impl DitConfig {
@@ -52,6 +76,7 @@ impl DitConfig {
             width: 96,
             depth: 4,
             num_heads: 4,
+            point_tokens: 0,
         }
     }
 
@@ -69,6 +94,12 @@ impl DitConfig {
         }
         if !self.width.is_multiple_of(2) {
             return Err("width must be even (sin | cos time features)".into());
+        }
+        if self.point_tokens > MAX_POINT_TOKENS {
+            return Err(format!(
+                "point_tokens must be at most {MAX_POINT_TOKENS}, got {}",
+                self.point_tokens
+            ));
         }
         Ok(())
     }
@@ -125,6 +156,62 @@ impl Rope {
     }
 }
 
+/// What the DiT is conditioned on besides time and vertex count: its tokens' RoPE-3D
+/// positions and, for a DiT with [`DitConfig::point_tokens`], the input points its tokens
+/// cross-attend to.
+pub struct Condition {
+    pub rope: Rope,
+    points: Option<PointContext>,
+}
+
+/// Input points: their Fourier features `[B, P, 3 + 6 POINT_FREQS]` and RoPE angles.
+struct PointContext {
+    features: Tensor<3>,
+    rope: Rope,
+}
+
+impl Condition {
+    /// `positions`: `batch x L` token voxels ([`Rope::new`]); `points`: one row of
+    /// `cfg.point_tokens` model-frame points per batch row
+    /// ([`crate::model::condition::context_points`]), unused when the config has none.
+    pub fn new(
+        cfg: &DitConfig,
+        positions: &[[f32; 3]],
+        points: &[Vec<Vec3>],
+        batch: usize,
+        device: &Device,
+    ) -> Self {
+        let head_dim = cfg.width / cfg.num_heads;
+        let points = (cfg.point_tokens > 0).then(|| {
+            let p = cfg.point_tokens;
+            assert!(
+                points.len() == batch && points.iter().all(|r| r.len() == p),
+                "one row of {p} points per batch row"
+            );
+            let mut features = Vec::with_capacity(batch * p * (3 + 6 * POINT_FREQS));
+            let mut cells = Vec::with_capacity(batch * p);
+            for &q in points.iter().flatten() {
+                fourier_embed(q, POINT_FREQS, &mut features);
+                // Continuous voxel coordinates: a point at a voxel's centre gets its index.
+                cells.push(
+                    ((q + 1.0) * 0.5 * ROPE_GRID as f32 - 0.5)
+                        .clamp(Vec3::splat(-0.5), Vec3::splat(ROPE_GRID as f32 - 0.5))
+                        .to_array(),
+                );
+            }
+            let width = 3 + 6 * POINT_FREQS;
+            PointContext {
+                features: Tensor::from_data(TensorData::new(features, [batch, p, width]), device),
+                rope: Rope::new(&cells, batch, head_dim, device),
+            }
+        });
+        Self {
+            rope: Rope::new(positions, batch, head_dim, device),
+            points,
+        }
+    }
+}
+
 /// fc1 . GELU . fc2.
 #[derive(Module, Debug)]
 pub struct DitMlp {
@@ -144,6 +231,21 @@ pub struct DitBlock {
     pub adaln: Linear,
     pub mlp: DitMlp,
     pub skip: Option<LongSkip>,
+    pub point_attn: Option<PointAttention>,
+}
+
+/// Cross-attention from the tokens to the embedded input points.
+#[derive(Module, Debug)]
+pub struct PointAttention {
+    pub norm: RmsNorm,
+    pub attn: Attention,
+}
+
+/// Fourier features of a point -> width: hidden . GELU . output.
+#[derive(Module, Debug)]
+pub struct PointEmbedder {
+    pub hidden: Linear,
+    pub output: Linear,
 }
 
 /// `h = RMSNorm(skip_linear([skip | h]) + skip_gate h)`.
@@ -160,7 +262,7 @@ fn modulate(x: Tensor<3>, shift: Tensor<3>, scale: Tensor<3>) -> Tensor<3> {
 }
 
 impl DitBlock {
-    fn new(width: usize, heads: usize, with_skip: bool, device: &Device) -> Self {
+    fn new(width: usize, heads: usize, with_skip: bool, points: bool, device: &Device) -> Self {
         Self {
             norm1: rms_norm(width, device),
             attn1: Attention::new(width, heads, DIT_NORM_EPS, device),
@@ -175,6 +277,10 @@ impl DitBlock {
                 skip_norm: rms_norm(width, device),
                 skip_gate: Param::from_tensor(Tensor::full([1], 0.5, device)),
             }),
+            point_attn: points.then(|| PointAttention {
+                norm: rms_norm(width, device),
+                attn: Attention::new(width, heads, DIT_NORM_EPS, device),
+            }),
         }
     }
 
@@ -182,7 +288,8 @@ impl DitBlock {
         &self,
         h: Tensor<3>,
         temb: Tensor<2>,
-        rope: &Rope,
+        condition: &Condition,
+        points: Option<&Tensor<3>>,
         skip: Option<Tensor<3>>,
     ) -> Tensor<3> {
         let h = match (&self.skip, skip) {
@@ -197,7 +304,20 @@ impl DitBlock {
         let m = self.adaln.forward(silu(temb)).reshape([b, 7, w]);
         let chunk = |i: usize| m.clone().narrow(1, i, 1); // [B, 1, W]
         let x = modulate(self.norm1.forward(h.clone()), chunk(0), chunk(1));
+        let rope = &condition.rope;
         let h = h + chunk(2) * self.attn1.forward(x.clone(), x, Some(&|t| rope.apply(t)));
+        let h = match (&self.point_attn, points, &condition.points) {
+            (Some(p), Some(embedded), Some(ctx)) => {
+                let read = p.attn.forward_rotated(
+                    p.norm.forward(h.clone()),
+                    embedded.clone(),
+                    Some(&|t| rope.apply(t)),
+                    Some(&|t| ctx.rope.apply(t)),
+                );
+                h + chunk(6) * read
+            }
+            _ => h,
+        };
         let x = modulate(self.norm3.forward(h.clone()), chunk(3), chunk(4));
         let mlp = self.mlp.fc2.forward(gelu(self.mlp.fc1.forward(x)));
         h + chunk(5) * mlp
@@ -242,6 +362,7 @@ pub fn time_features(t: &[f32], width: usize, device: &Device) -> Tensor<2> {
 pub struct Dit {
     pub x_embedder: Linear,
     pub t_embedder: TimestepEmbedder,
+    pub point_embedder: Option<PointEmbedder>,
     pub blocks: Vec<DitBlock>,
     pub final_norm: RmsNorm,
     pub final_layer: FinalLayer,
@@ -270,8 +391,15 @@ impl Dit {
                 },
                 cond_proj: linear(1, w, false, device),
             },
+            point_embedder: (cfg.point_tokens > 0).then(|| PointEmbedder {
+                hidden: linear(3 + 6 * POINT_FREQS, w, true, device),
+                output: linear(w, w, true, device),
+            }),
             blocks: (0..cfg.depth)
-                .map(|i| DitBlock::new(w, cfg.num_heads, i > cfg.depth / 2, device))
+                .map(|i| {
+                    let skip = i > cfg.depth / 2;
+                    DitBlock::new(w, cfg.num_heads, skip, cfg.point_tokens > 0, device)
+                })
                 .collect(),
             final_norm: rms_norm(w, device),
             final_layer: FinalLayer {
@@ -296,17 +424,24 @@ impl Dit {
         x: Tensor<3>,
         t: &[f32],
         cond: Tensor<2>,
-        rope: &Rope,
+        condition: &Condition,
         trace: &mut super::vae::Trace,
     ) -> Tensor<3> {
         let temb = self.time_embedding(t, cond);
+        let points = match (&self.point_embedder, &condition.points) {
+            (Some(e), Some(ctx)) => Some(
+                e.output
+                    .forward(gelu(e.hidden.forward(ctx.features.clone()))),
+            ),
+            _ => None,
+        };
         let mut h = self.x_embedder.forward(x);
         trace.record("x_embedder", &h);
         let depth = self.blocks.len();
         let mut skips = Vec::new();
         for (i, block) in self.blocks.iter().enumerate() {
             let skip = if i > depth / 2 { skips.pop() } else { None };
-            h = block.forward(h, temb.clone(), rope, skip);
+            h = block.forward(h, temb.clone(), condition, points.as_ref(), skip);
             if i < depth / 2 {
                 skips.push(h.clone());
             }
@@ -315,5 +450,59 @@ impl Dit {
         let h = self.final_norm.forward(h);
         trace.record("final_norm", &h);
         self.final_layer.linear.forward(h)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn point_tokens_default_to_none_and_are_bounded() {
+        // Configs from before the point path load unchanged and save without the field.
+        let old = r#"{"num_latents":16,"latent_dim":8,"width":96,"depth":4,"num_heads":4}"#;
+        let cfg: DitConfig = serde_json::from_str(old).unwrap();
+        assert_eq!(cfg, DitConfig::dit_small());
+        assert_eq!(serde_json::to_string(&cfg).unwrap(), old);
+        let reading = DitConfig {
+            point_tokens: 256,
+            ..DitConfig::dit_small()
+        };
+        assert!(reading.validate().is_ok());
+        let too_many = DitConfig {
+            point_tokens: MAX_POINT_TOKENS + 1,
+            ..DitConfig::dit_small()
+        };
+        let err = too_many.validate().unwrap_err();
+        assert!(err.contains("point_tokens"), "{err}");
+    }
+
+    #[test]
+    fn points_sit_at_their_continuous_voxel_coordinates() {
+        // A point at a voxel's centre rotates like a token in that voxel; the point path adds
+        // features of every point to the condition.
+        let device = Device::flex();
+        let cfg = DitConfig {
+            point_tokens: 2,
+            ..DitConfig::dit_small()
+        };
+        let centre = |i: f32| (i + 0.5) / ROPE_GRID as f32 * 2.0 - 1.0;
+        let points = vec![vec![
+            Vec3::new(centre(3.0), centre(0.0), centre(31.0)),
+            Vec3::ZERO,
+        ]];
+        let c = Condition::new(&cfg, &[[3.0, 0.0, 31.0]; 16], &points, 1, &device);
+        let ctx = c.points.as_ref().unwrap();
+        assert_eq!(ctx.features.dims(), [1, 2, 3 + 6 * POINT_FREQS]);
+        let head_dim = cfg.width / cfg.num_heads;
+        let angles = |r: &Rope, row: usize| {
+            let v = r.cos.clone().into_data().try_into_vec::<f32>().unwrap();
+            v[row * head_dim..(row + 1) * head_dim].to_vec()
+        };
+        for (a, b) in angles(&ctx.rope, 0).iter().zip(angles(&c.rope, 0)) {
+            assert!((a - b).abs() < 1e-4, "{a} vs {b}");
+        }
+        let blind = Condition::new(&DitConfig::dit_small(), &[[0.0; 3]; 16], &[], 1, &device);
+        assert!(blind.points.is_none());
     }
 }

@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use burn::tensor::{Device, Tensor, TensorData};
 use glam::Vec3;
 
-use super::dit::{Dit, DitConfig, Rope, is_image_path};
+use super::dit::{Condition, Dit, DitConfig, is_image_path};
 use super::sampler::{SampleError, Solver, sample};
 use super::schedule::ScheduleMode;
 use super::tokens::assemble_features;
@@ -239,7 +239,7 @@ pub fn verify_dit(dir: &Path, device: &Device) -> Result<Vec<TensorDiff>, Golden
         .chunks_exact(3)
         .map(|c| [c[0], c[1], c[2]])
         .collect();
-    let rope = Rope::new(&positions, t.len(), cfg.width / cfg.num_heads, device);
+    let condition = Condition::new(&cfg, &positions, &[], t.len(), device);
     let cond: Tensor<2> = g.tensor("input.proj_cond_on_temb", device)?;
     g.compare(
         "temb",
@@ -248,7 +248,7 @@ pub fn verify_dit(dir: &Path, device: &Device) -> Result<Vec<TensorDiff>, Golden
     )?;
     let x: Tensor<3> = g.tensor("input.x", device)?;
     let mut trace = Trace::recording();
-    let out = dit.forward(x, &t, cond.clone(), &rope, &mut trace);
+    let out = dit.forward(x, &t, cond.clone(), &condition, &mut trace);
     for (name, tensor) in std::mem::take(&mut trace.tensors) {
         g.compare(&name, &values(tensor), &format!("inter.{name}"))?;
     }
@@ -259,7 +259,7 @@ pub fn verify_dit(dir: &Path, device: &Device) -> Result<Vec<TensorDiff>, Golden
         &dit,
         noise,
         cond,
-        &rope,
+        &condition,
         10,
         ScheduleMode::Reference,
         Solver::Euler,

@@ -74,6 +74,18 @@ impl Attention {
         context: Tensor<3>,
         rope: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
     ) -> Tensor<3> {
+        self.forward_rotated(x, context, rope, rope)
+    }
+
+    /// [`Self::forward`] with separate rotations of q and k, for queries and context at
+    /// different positions (the DiT's tokens attending to input points).
+    pub fn forward_rotated(
+        &self,
+        x: Tensor<3>,
+        context: Tensor<3>,
+        rope_q: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
+        rope_k: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
+    ) -> Tensor<3> {
         let [b, lq, w] = x.dims();
         let lk = context.dims()[1];
         let hd = w / self.heads;
@@ -83,8 +95,10 @@ impl Attention {
             .norm_k
             .forward(split(self.to_k.forward(context.clone()), lk));
         let v = split(self.to_v.forward(context), lk);
-        if let Some(rope) = rope {
+        if let Some(rope) = rope_q {
             q = rope(q);
+        }
+        if let Some(rope) = rope_k {
             k = rope(k);
         }
         let out = attention(q, k, v, None, None, Default::default());

@@ -6,7 +6,7 @@
 use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
-use super::dit::{Dit, Rope};
+use super::dit::{Condition, Dit};
 use super::schedule::{ScheduleMode, step_times};
 use super::vae::Trace;
 use crate::rng::Rng;
@@ -74,7 +74,7 @@ pub fn sample(
     dit: &Dit,
     noise: Tensor<3>,
     cond: Tensor<2>,
-    rope: &Rope,
+    condition: &Condition,
     steps: usize,
     mode: ScheduleMode,
     solver: Solver,
@@ -86,7 +86,15 @@ pub fn sample(
     let times = step_times(steps, mode);
     let mut x = noise;
     for i in 0..steps {
-        x = step(dit, solver, x, times[i], times[i + 1], cond.clone(), rope);
+        x = step(
+            dit,
+            solver,
+            x,
+            times[i],
+            times[i + 1],
+            cond.clone(),
+            condition,
+        );
         if !on_step(i + 1, steps, &x) {
             return Err(SampleError::Cancelled(i + 1, steps));
         }
@@ -103,7 +111,7 @@ pub fn step(
     t: f32,
     t_next: f32,
     cond: Tensor<2>,
-    rope: &Rope,
+    condition: &Condition,
 ) -> Tensor<3> {
     solver.step(x, t, t_next, &mut |x, t| {
         let batch = x.dims()[0];
@@ -111,7 +119,7 @@ pub fn step(
             x,
             &vec![t; batch],
             cond.clone(),
-            rope,
+            condition,
             &mut Trace::default(),
         )
     })

@@ -31,8 +31,8 @@ use crate::extract::{
 use crate::geometry::normalize::Normalization;
 use crate::geometry::sample::{sample_surface, subsample_points};
 use crate::geometry::topology::TopologyReport;
-use crate::model::condition::{inference_positions, vertex_condition};
-use crate::model::dit::{Dit, DitConfig, Rope};
+use crate::model::condition::{context_points, inference_positions, vertex_condition};
+use crate::model::dit::{Condition, Dit, DitConfig};
 use crate::model::sampler::{SampleError, Solver, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
 use crate::model::{MeshVae, Trace, VaeConfig};
@@ -265,7 +265,8 @@ pub struct Prepared {
     pub noise: Tensor<3>,
     /// `[B, 1]` vertex-count conditions.
     pub cond: Tensor<2>,
-    pub rope: Rope,
+    /// Token positions (and input points, for a DiT that reads them).
+    pub condition: Condition,
     pub times: StageTimes,
 }
 
@@ -389,7 +390,7 @@ impl Generator<'_> {
             self.dit,
             prepared.noise.clone(),
             prepared.cond.clone(),
-            &prepared.rope,
+            &prepared.condition,
             opts.steps,
             opts.schedule,
             opts.solver,
@@ -481,6 +482,12 @@ impl Generator<'_> {
             .iter()
             .map(|c| vertex_condition(c.budget, l))
             .collect();
+        // Seeded apart from the token positions' draw (seed) and the noise (seed).
+        let points: Vec<Vec<Vec3>> = conditioned
+            .iter()
+            .zip(seeds)
+            .map(|(c, &seed)| context_points(&c.model_points, dit.point_tokens, seed ^ 0x901))
+            .collect();
         let noise: Vec<Tensor<3>> = (0..b)
             .map(|k| normal_noise(&mut Rng::new(seeds[k]), [1, l_used, d], self.device))
             .collect();
@@ -489,7 +496,7 @@ impl Generator<'_> {
             slots,
             noise: Tensor::cat(noise, 0),
             cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
-            rope: Rope::new(&positions, b, dit.width / dit.num_heads, self.device),
+            condition: Condition::new(dit, &positions, &points, b, self.device),
             times: StageTimes {
                 condition_s: started.elapsed().as_secs_f64(),
                 ..Default::default()

@@ -26,8 +26,10 @@ use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
 use crate::data::degrade::{Degradation, degrade};
 use crate::geometry::sample::{sample_surface, subsample_points};
-use crate::model::condition::{inference_positions, latent_positions, vertex_condition};
-use crate::model::dit::{Dit, DitConfig, Rope, is_image_path};
+use crate::model::condition::{
+    context_points, inference_positions, latent_positions, vertex_condition,
+};
+use crate::model::dit::{Condition, Dit, DitConfig, is_image_path};
 use crate::model::sampler::normal_noise;
 use crate::model::tokens::build_tokens;
 use crate::model::weights::{TensorMap, WeightsError};
@@ -258,11 +260,13 @@ struct FlowBatch {
     target: Tensor<3>,
     t: Vec<f32>,
     cond: Tensor<2>,
-    rope: Rope,
+    condition: Condition,
 }
 
 /// The tokens' RoPE positions are each example's own, or drawn by `augment` (first, from
-/// `rng`).
+/// `rng`); a DiT that reads input points gets a fresh subset of each example's surface
+/// samples (next, from `rng`; nothing is drawn for one that does not, so such runs reproduce
+/// those from before points existed).
 fn flow_batch(
     examples: &[&LatentExample],
     augment: Option<&PositionAugment>,
@@ -277,6 +281,13 @@ fn flow_batch(
             None => e.positions.clone(),
         })
         .collect();
+    let points: Vec<Vec<Vec3>> = match cfg.point_tokens {
+        0 => Vec::new(),
+        count => examples
+            .iter()
+            .map(|e| context_points(&e.surface, count, rng.next_u64()))
+            .collect(),
+    };
     let (b, l, d) = (examples.len(), examples[0].positions.len(), cfg.latent_dim);
     let x0: Vec<f32> = examples
         .iter()
@@ -299,7 +310,7 @@ fn flow_batch(
         target: eps - x0,
         t,
         cond: Tensor::from_data(TensorData::new(cond, [b, 1]), device),
-        rope: Rope::new(&positions, b, cfg.width / cfg.num_heads, device),
+        condition: Condition::new(cfg, &positions, &points, b, device),
     }
 }
 
@@ -309,7 +320,7 @@ fn flow_loss(dit: &Dit, batch: &FlowBatch) -> Tensor<1> {
         batch.x_t.clone(),
         &batch.t,
         batch.cond.clone(),
-        &batch.rope,
+        &batch.condition,
         &mut Trace::default(),
     );
     (v - batch.target.clone()).square().mean()

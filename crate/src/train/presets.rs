@@ -115,6 +115,7 @@ pub fn dit_ship(num_latents: usize, latent_dim: usize) -> DitTrainConfig {
         width: 192,
         depth: 6,
         num_heads: 4,
+        point_tokens: 0,
     });
     // The paper's 1e-4 is for an 895M-parameter DiT; the shipped 4.7M one was trained at 3e-4
     // (BENCHMARKS.md's DiT sweep compares the two).

@@ -215,7 +215,7 @@ impl MeshFlow {
                 times[i],
                 times[i + 1],
                 prepared.cond.clone(),
-                &prepared.rope,
+                &prepared.condition,
             );
             // Wait for this step on the device (one value back), then let the event loop run.
             read(x.clone().slice([0..1, 0..1, 0..1])).await?;
