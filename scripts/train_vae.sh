@@ -2,7 +2,7 @@
 # Reproduce the shipped MeshVAE (weights/vae.*): `bash scripts/train_vae.sh RUN [DATA]`.
 #
 # 1. RUN/base: `meshflow train vae --config weights/vae.train.json` (10,000 steps of the whole
-#    VAE; about 55-60 minutes alone on the 2-core CPU);
+#    VAE with 64-wide latents; about 50 minutes alone on the 2-core CPU);
 # 2. RUN/vertex: `meshflow train vae --config weights/vae.vertex.train.json --init RUN/base`
 #    (16,000 steps of the decoder alone, about 72 minutes): one self-attention block over the
 #    vertex tokens added (starting as the identity), near non-edges weighted 10, positions

@@ -34,7 +34,7 @@ use serde::{Deserialize, Serialize};
 
 use glam::Vec3;
 
-use super::layers::{Attention, linear};
+use super::layers::{Attention, KeysValues, linear};
 use super::tokens::fourier_embed;
 
 /// RMSNorm epsilon of the DiT.
@@ -162,6 +162,9 @@ impl Rope {
 pub struct Condition {
     pub rope: Rope,
     points: Option<PointContext>,
+    /// Every block's keys and values of the embedded points, once [`Dit::cache_points`] has
+    /// computed them.
+    cached: Option<Vec<Option<KeysValues>>>,
 }
 
 /// Input points: their Fourier features `[B, P, 3 + 6 POINT_FREQS]` and RoPE angles.
@@ -208,6 +211,7 @@ impl Condition {
         Self {
             rope: Rope::new(positions, batch, head_dim, device),
             points,
+            cached: None,
         }
     }
 }
@@ -288,8 +292,8 @@ impl DitBlock {
         &self,
         h: Tensor<3>,
         temb: Tensor<2>,
-        condition: &Condition,
-        points: Option<&Tensor<3>>,
+        rope: &Rope,
+        points: Option<&KeysValues>,
         skip: Option<Tensor<3>>,
     ) -> Tensor<3> {
         let h = match (&self.skip, skip) {
@@ -304,16 +308,12 @@ impl DitBlock {
         let m = self.adaln.forward(silu(temb)).reshape([b, 7, w]);
         let chunk = |i: usize| m.clone().narrow(1, i, 1); // [B, 1, W]
         let x = modulate(self.norm1.forward(h.clone()), chunk(0), chunk(1));
-        let rope = &condition.rope;
         let h = h + chunk(2) * self.attn1.forward(x.clone(), x, Some(&|t| rope.apply(t)));
-        let h = match (&self.point_attn, points, &condition.points) {
-            (Some(p), Some(embedded), Some(ctx)) => {
-                let read = p.attn.forward_rotated(
-                    p.norm.forward(h.clone()),
-                    embedded.clone(),
-                    Some(&|t| rope.apply(t)),
-                    Some(&|t| ctx.rope.apply(t)),
-                );
+        let h = match (&self.point_attn, points) {
+            (Some(p), Some(kv)) => {
+                let read = p
+                    .attn
+                    .attend(p.norm.forward(h.clone()), kv, Some(&|t| rope.apply(t)));
                 h + chunk(6) * read
             }
             _ => h,
@@ -418,6 +418,31 @@ impl Dit {
         mlp.output.forward(gelu(mlp.hidden.forward(x)))
     }
 
+    /// Every block's keys and values of the embedded input points (empty without points).
+    fn point_keys_values(&self, condition: &Condition) -> Vec<Option<KeysValues>> {
+        let (Some(embedder), Some(ctx)) = (&self.point_embedder, &condition.points) else {
+            return Vec::new();
+        };
+        let embedded = embedder
+            .output
+            .forward(gelu(embedder.hidden.forward(ctx.features.clone())));
+        let rope = |t| ctx.rope.apply(t);
+        self.blocks
+            .iter()
+            .map(|b| {
+                let p = b.point_attn.as_ref()?;
+                Some(p.attn.keys_values(embedded.clone(), Some(&rope)))
+            })
+            .collect()
+    }
+
+    /// Computes once what every sampling step shares: the input points' keys and values in
+    /// every block (they depend on neither `x` nor `t`). Sampling calls it; training does
+    /// not, so that gradients reach the point path.
+    pub fn cache_points(&self, condition: &mut Condition) {
+        condition.cached = Some(self.point_keys_values(condition));
+    }
+
     /// Velocity for latents `x` `[B, L, D]` at model times `t` (one per batch row).
     pub fn forward(
         &self,
@@ -428,12 +453,9 @@ impl Dit {
         trace: &mut super::vae::Trace,
     ) -> Tensor<3> {
         let temb = self.time_embedding(t, cond);
-        let points = match (&self.point_embedder, &condition.points) {
-            (Some(e), Some(ctx)) => Some(
-                e.output
-                    .forward(gelu(e.hidden.forward(ctx.features.clone()))),
-            ),
-            _ => None,
+        let points = match &condition.cached {
+            Some(cached) => cached.clone(),
+            None => self.point_keys_values(condition),
         };
         let mut h = self.x_embedder.forward(x);
         trace.record("x_embedder", &h);
@@ -441,7 +463,8 @@ impl Dit {
         let mut skips = Vec::new();
         for (i, block) in self.blocks.iter().enumerate() {
             let skip = if i > depth / 2 { skips.pop() } else { None };
-            h = block.forward(h, temb.clone(), condition, points.as_ref(), skip);
+            let kv = points.get(i).and_then(Option::as_ref);
+            h = block.forward(h, temb.clone(), &condition.rope, kv, skip);
             if i < depth / 2 {
                 skips.push(h.clone());
             }
@@ -504,5 +527,56 @@ mod tests {
         }
         let blind = Condition::new(&DitConfig::dit_small(), &[[0.0; 3]; 16], &[], 1, &device);
         assert!(blind.points.is_none());
+    }
+
+    #[test]
+    fn cached_point_keys_give_the_uncached_velocity() {
+        let device = Device::flex();
+        let cfg = DitConfig {
+            point_tokens: 8,
+            ..DitConfig::dit_small()
+        };
+        let dit = crate::model::seeded_init(Dit::new(&cfg, &device), 4);
+        let mut rng = crate::rng::Rng::new(2);
+        let points: Vec<Vec<Vec3>> = (0..2)
+            .map(|_| {
+                (0..8)
+                    .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) * 2.0 - 1.0)
+                    .collect()
+            })
+            .collect();
+        let positions: Vec<[f32; 3]> = (0..32).map(|i| [(i % 32) as f32, 3.0, 7.0]).collect();
+        let x = crate::model::sampler::normal_noise(&mut rng, [2, 16, 8], &device);
+        let cond = Tensor::<2>::ones([2, 1], &device);
+        let velocity = |c: &Condition| {
+            let v = dit.forward(
+                x.clone(),
+                &[0.3, 0.7],
+                cond.clone(),
+                c,
+                &mut Default::default(),
+            );
+            v.into_data().try_into_vec::<f32>().unwrap()
+        };
+        let mut condition = Condition::new(&cfg, &positions, &points, 2, &device);
+        let uncached = velocity(&condition);
+        dit.cache_points(&mut condition);
+        let cached = velocity(&condition);
+        let diff = uncached
+            .iter()
+            .zip(&cached)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f32::max);
+        assert!(diff < 1e-6, "{diff}");
+        // The points matter: other points, other velocity.
+        let mut moved = points.clone();
+        moved[0][0] = -moved[0][0];
+        let other = velocity(&Condition::new(&cfg, &positions, &moved, 2, &device));
+        assert!(
+            uncached
+                .iter()
+                .zip(&other)
+                .any(|(a, b)| (a - b).abs() > 1e-5)
+        );
     }
 }

@@ -86,24 +86,69 @@ impl Attention {
         rope_q: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
         rope_k: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
     ) -> Tensor<3> {
-        let [b, lq, w] = x.dims();
-        let lk = context.dims()[1];
+        let kv = self.keys_values(context, rope_k);
+        self.attend(x, &kv, rope_q)
+    }
+
+    /// Keys (normalised, then rotated by `rope`) and values of `[B, Lk, W]` context, each
+    /// `[B, heads, Lk, head_dim]`: computed once, they serve every query that attends to the
+    /// same context ([`Self::attend`]).
+    pub fn keys_values(
+        &self,
+        context: Tensor<3>,
+        rope: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
+    ) -> KeysValues {
+        let [b, lk, w] = context.dims();
         let hd = w / self.heads;
-        let split = |t: Tensor<3>, l: usize| t.reshape([b, l, self.heads, hd]).swap_dims(1, 2);
-        let mut q = self.norm_q.forward(split(self.to_q.forward(x), lq));
+        let split = |t: Tensor<3>| t.reshape([b, lk, self.heads, hd]).swap_dims(1, 2);
         let mut k = self
             .norm_k
-            .forward(split(self.to_k.forward(context.clone()), lk));
-        let v = split(self.to_v.forward(context), lk);
-        if let Some(rope) = rope_q {
-            q = rope(q);
-        }
-        if let Some(rope) = rope_k {
+            .forward(split(self.to_k.forward(context.clone())));
+        if let Some(rope) = rope {
             k = rope(k);
         }
-        let out = attention(q, k, v, None, None, Default::default());
+        KeysValues {
+            k,
+            v: split(self.to_v.forward(context)),
+        }
+    }
+
+    /// `[B, Lq, W]` queries (rotated by `rope`) attend to keys and values from
+    /// [`Self::keys_values`].
+    pub fn attend(
+        &self,
+        x: Tensor<3>,
+        kv: &KeysValues,
+        rope: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
+    ) -> Tensor<3> {
+        let [b, lq, w] = x.dims();
+        let hd = w / self.heads;
+        let mut q = self.norm_q.forward(
+            self.to_q
+                .forward(x)
+                .reshape([b, lq, self.heads, hd])
+                .swap_dims(1, 2),
+        );
+        if let Some(rope) = rope {
+            q = rope(q);
+        }
+        let out = attention(
+            q,
+            kv.k.clone(),
+            kv.v.clone(),
+            None,
+            None,
+            Default::default(),
+        );
         self.to_out.forward(out.swap_dims(1, 2).reshape([b, lq, w]))
     }
+}
+
+/// Keys and values of one attention's context ([`Attention::keys_values`]).
+#[derive(Clone, Debug)]
+pub struct KeysValues {
+    pub k: Tensor<4>,
+    pub v: Tensor<4>,
 }
 
 /// Linear(w, 4w) . exact-erf GELU . Linear(4w, w).

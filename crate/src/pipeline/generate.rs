@@ -488,6 +488,8 @@ impl Generator<'_> {
             .zip(seeds)
             .map(|(c, &seed)| context_points(&c.model_points, dit.point_tokens, seed ^ 0x901))
             .collect();
+        let mut condition = Condition::new(dit, &positions, &points, b, self.device);
+        self.dit.cache_points(&mut condition);
         let noise: Vec<Tensor<3>> = (0..b)
             .map(|k| normal_noise(&mut Rng::new(seeds[k]), [1, l_used, d], self.device))
             .collect();
@@ -496,7 +498,7 @@ impl Generator<'_> {
             slots,
             noise: Tensor::cat(noise, 0),
             cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
-            condition: Condition::new(dit, &positions, &points, b, self.device),
+            condition,
             times: StageTimes {
                 condition_s: started.elapsed().as_secs_f64(),
                 ..Default::default()

@@ -1,0 +1,68 @@
+"""Does a DiT that reads the input points close the generation gap of the 64-wide VAE?
+
+Validation flow loss against wall-clock time on this 2-core CPU (one thread per run) for three
+DiTs on the same 64-wide latents (the latent-64 VAE of stop 40; its decoder-only stage kept
+stage 1's encoder, so the latents are stop 31's):
+
+- base: 192 x 6, 10,000 steps at lr 3e-4 (bench/vae_latent64/dit.config.json);
+- big: 240 x 8, 10,000 steps (bench/vae_latent64/dit_big.config.json);
+- points: 192 x 6 reading 256 input points in every block, 6,000 steps, about the base's
+  wall-clock (bench/dit_points/latent64.config.json).
+
+Left: the loss with the tokens at their training positions (their own vertices' voxels);
+right: the same validation meshes with the positions drawn as inference draws them (farthest
+points of surface samples), the condition the model meets in use.
+
+`python3 bench/dit_points/plot.py` reads the metrics files next to it (`<arm>.metrics.jsonl`),
+writes curves.png and prints one row per arm. Time is each run's own `elapsed_s` (the
+processes of a resumed run joined end to end); runs shared the CPU with other jobs, so a few
+percent either way is noise."""
+import json, os
+import matplotlib
+matplotlib.use('Agg')
+import matplotlib.pyplot as plt
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ARMS = [('base', 'base 192x6'), ('big', 'big 240x8'), ('points', '192x6 + 256 points')]
+
+
+def curves(path):
+    """(minutes, val_loss, val_loss_inference_positions) at each validation, and the run's last
+    step and minutes."""
+    elapsed, rows, last = {}, [], (0, 0.0)
+    # A process that resumed a run without counting the earlier ones' time starts its
+    # elapsed_s again from 0: those runs are joined end to end.
+    offset, previous = 0.0, 0.0
+    for line in open(path):
+        r = json.loads(line)
+        if 'elapsed_s' in r:
+            if r['elapsed_s'] < previous:
+                offset += previous
+            previous = r['elapsed_s']
+            minutes = (offset + r['elapsed_s']) / 60
+            elapsed[r['step']] = minutes
+            last = (r['step'], minutes)
+        elif 'val_loss' in r and r['step'] in elapsed:
+            rows.append((elapsed[r['step']], r['val_loss'], r.get('val_loss_inference_positions')))
+    return rows, last
+
+
+fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+print('| arm | steps | minutes | val flow loss | with inference positions |')
+print('|---|---:|---:|---:|---:|')
+for arm, label in ARMS:
+    path = os.path.join(HERE, f'{arm}.metrics.jsonl')
+    if not os.path.exists(path):
+        continue
+    rows, (steps, minutes) = curves(path)
+    axes[0].plot([r[0] for r in rows], [r[1] for r in rows], label=label)
+    axes[1].plot([r[0] for r in rows], [r[2] for r in rows], label=label)
+    print(f'| {label} | {steps} | {minutes:.0f} | {rows[-1][1]:.4f} | {rows[-1][2]:.4f} |')
+for ax, title in zip(axes, ['training positions', "inference's positions"]):
+    ax.set_xlabel('wall-clock minutes (one thread)')
+    ax.set_ylabel('validation flow loss')
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    ax.legend()
+fig.tight_layout()
+fig.savefig(os.path.join(HERE, 'curves.png'), dpi=110)
