@@ -278,7 +278,7 @@ fn bad_inputs_are_typed_errors() {
         run(points.clone(), both),
         GenerateError::VerticesAndFaces
     ));
-    for asked in [0, 9, 641, 100_000] {
+    for asked in [0, 12, 841, 100_000] {
         let opts = GenerateOptions {
             vertices: None,
             faces: Some(asked),
@@ -289,8 +289,8 @@ fn bad_inputs_are_typed_errors() {
             matches!(
                 err,
                 GenerateError::Faces {
-                    min: 10,
-                    max: 640,
+                    min: 13,
+                    max: 840,
                     ..
                 }
             ),
@@ -431,7 +431,7 @@ fn a_face_count_sets_the_vertex_budget() {
         out[0].vertex_budget,
         meshflow::pipeline::generate::budget_for_faces(90, 512).unwrap()
     );
-    assert_eq!(out[0].vertex_budget, 72);
+    assert_eq!(out[0].vertex_budget, 55);
 }
 
 #[test]

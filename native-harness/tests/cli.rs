@@ -742,13 +742,13 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
         "--json",
     ]));
     assert_eq!(report["faces_asked"], 150);
-    assert_eq!(report["vertex_budget"], 120);
+    assert_eq!(report["vertex_budget"], 91);
     assert!(report["fit"]["iterations"].as_u64().unwrap() > 0);
     let not_written = dir.join("never.glb");
     for (flags, message) in [
         (
             &["--faces", "5"][..],
-            "5 faces is outside what the model can make: 10..=640",
+            "5 faces is outside what the model can make: 13..=840",
         ),
         (
             &["--faces", "100", "--vertices", "50"][..],

@@ -592,7 +592,7 @@ await check('the npm package imports and generates the way a user would', async 
   // Hole closing is on by default and can be turned off; a non-boolean is a TypeError.
   assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
   assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
-  assert(o.byFaces.budget === Math.round(120 / 1.25) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
+  assert(o.byFaces.budget === Math.round(120 / 1.64) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
   assert(o.samples.faces > 0 && o.samples.keptIs >= 0, `samples: 3 kept none of the three candidates: ${JSON.stringify(o.samples)}`);
   console.log(`  samples: 3 kept candidate ${o.samples.keptIs}; one-sample meshes ${JSON.stringify(o.samples.candidates)}`);
   assert(o.samples.byDefault === 12, `the default drew ${o.samples.byDefault} candidates, not 12`);
