@@ -10,8 +10,10 @@ stage 1's encoder, so the latents are stop 31's):
   wall-clock (bench/dit_points/latent64.config.json).
 
 Left: the loss with the tokens at their training positions (their own vertices' voxels);
-right: the same validation meshes with the positions drawn as inference draws them (farthest
-points of surface samples), the condition the model meets in use.
+middle: the same validation meshes with the positions drawn as inference draws them (farthest
+points of surface samples), the condition the model meets in use; right: the generated
+validation CD of each arm's final weights (FINAL_CD below, from `meshflow eval generate
+--split val`), which the losses do not rank.
 
 `python3 bench/dit_points/plot.py` reads the metrics files next to it (`<arm>.metrics.jsonl`),
 writes curves.png and prints one row per arm. Time is each run's own `elapsed_s` (the
@@ -47,7 +49,12 @@ def curves(path):
     return rows, last
 
 
-fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+# Generated validation CD x100 (`meshflow eval generate --split val`, seed 0) of each arm's final
+# weights with today's 64-wide decoder; the larger DiT's is with stop 33's decoder (marked), the
+# 192 x 6 without points scored 5.089 with that one.
+FINAL_CD = {'base': (4.870, ''), 'big': (5.018, " (stop 33's decoder)"), 'points': (4.372, '')}
+
+fig, axes = plt.subplots(1, 3, figsize=(15, 4))
 print('| arm | steps | minutes | val flow loss | with inference positions |')
 print('|---|---:|---:|---:|---:|')
 for arm, label in ARMS:
@@ -58,11 +65,23 @@ for arm, label in ARMS:
     axes[0].plot([r[0] for r in rows], [r[1] for r in rows], label=label)
     axes[1].plot([r[0] for r in rows], [r[2] for r in rows], label=label)
     print(f'| {label} | {steps} | {minutes:.0f} | {rows[-1][1]:.4f} | {rows[-1][2]:.4f} |')
-for ax, title in zip(axes, ['training positions', "inference's positions"]):
+    cd, note = FINAL_CD[arm]
+    axes[2].scatter([minutes], [cd], label=label + note, s=40)
+for ax, title in zip(axes[:2], ['training positions', "inference's positions"]):
     ax.set_xlabel('wall-clock minutes (one thread)')
     ax.set_ylabel('validation flow loss')
     ax.set_title(title)
     ax.grid(alpha=0.3)
     ax.legend()
+axes[2].set_xlabel('wall-clock minutes (one thread)')
+axes[2].set_ylabel('generated validation CD x100 (final weights)')
+axes[2].set_title('generation')
+axes[2].axhline(4.393, color='grey', ls='--', lw=1)
+axes[2].text(2, 4.40, "the 64-wide VAE's own reconstructions", fontsize=8, color='grey')
+axes[2].axhline(4.552, color='grey', ls=':', lw=1)
+axes[2].text(2, 4.56, 'the previous shipped pair', fontsize=8, color='grey')
+axes[2].set_xlim(0, None)
+axes[2].grid(alpha=0.3)
+axes[2].legend(fontsize=8)
 fig.tight_layout()
 fig.savefig(os.path.join(HERE, 'curves.png'), dpi=110)
