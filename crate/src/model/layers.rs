@@ -74,20 +74,8 @@ impl Attention {
         context: Tensor<3>,
         rope: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
     ) -> Tensor<3> {
-        self.forward_rotated(x, context, rope, rope)
-    }
-
-    /// [`Self::forward`] with separate rotations of q and k, for queries and context at
-    /// different positions (the DiT's tokens attending to input points).
-    pub fn forward_rotated(
-        &self,
-        x: Tensor<3>,
-        context: Tensor<3>,
-        rope_q: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
-        rope_k: Option<&dyn Fn(Tensor<4>) -> Tensor<4>>,
-    ) -> Tensor<3> {
-        let kv = self.keys_values(context, rope_k);
-        self.attend(x, &kv, rope_q)
+        let kv = self.keys_values(context, rope);
+        self.attend(x, &kv, rope)
     }
 
     /// Keys (normalised, then rotated by `rope`) and values of `[B, Lk, W]` context, each

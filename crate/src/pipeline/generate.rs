@@ -482,7 +482,8 @@ impl Generator<'_> {
             .iter()
             .map(|c| vertex_condition(c.budget, l))
             .collect();
-        // Seeded apart from the token positions' draw (seed) and the noise (seed).
+        // Drawn from a seed of their own (`seed ^ 0x901`): the token positions and the noise
+        // draw from `seed` itself.
         let points: Vec<Vec<Vec3>> = conditioned
             .iter()
             .zip(seeds)
