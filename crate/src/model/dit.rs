@@ -116,6 +116,8 @@ fn rms_norm(width: usize, device: &Device) -> RmsNorm {
 pub struct Rope {
     cos: Tensor<4>,
     sin: Tensor<4>,
+    /// `[head_dim, head_dim]`: `x P` is `x` with each pair `(a, b)` turned to `(-b, a)`.
+    turn: Tensor<2>,
 }
 
 impl Rope {
@@ -139,20 +141,30 @@ impl Rope {
         let t = |v: Vec<f32>| {
             Tensor::<4>::from_data(TensorData::new(v, [batch, 1, len, head_dim]), device)
         };
+        let mut turn = vec![0f32; head_dim * head_dim];
+        for pair in (0..head_dim).step_by(2) {
+            turn[(pair + 1) * head_dim + pair] = -1.0; // out[2i] = -x[2i + 1]
+            turn[pair * head_dim + pair + 1] = 1.0; // out[2i + 1] = x[2i]
+        }
         Self {
             cos: t(cos),
             sin: t(sin),
+            turn: Tensor::from_data(TensorData::new(turn, [head_dim, head_dim]), device),
         }
     }
 
     /// Rotates adjacent channel pairs of `x` `[B, H, L, head_dim]`.
     pub fn apply(&self, x: Tensor<4>) -> Tensor<4> {
+        // One small matrix product turns every pair: exact (each output is one input times
+        // +-1, plus zeros), and several times faster on the CPU than slicing the pairs apart
+        // and concatenating them, which copied strided views three times per call.
         let [b, h, l, d] = x.dims();
-        let pairs = x.clone().reshape([b, h, l, d / 2, 2]);
-        let even = pairs.clone().narrow(4, 0, 1);
-        let odd = pairs.narrow(4, 1, 1);
-        let rotated = Tensor::cat(vec![odd.neg(), even], 4).reshape([b, h, l, d]);
-        x * self.cos.clone() + rotated * self.sin.clone()
+        let turned = x
+            .clone()
+            .reshape([b * h * l, d])
+            .matmul(self.turn.clone())
+            .reshape([b, h, l, d]);
+        x * self.cos.clone() + turned * self.sin.clone()
     }
 }
 
@@ -578,5 +590,33 @@ mod tests {
                 .zip(&other)
                 .any(|(a, b)| (a - b).abs() > 1e-5)
         );
+    }
+
+    #[test]
+    fn rope_turns_each_channel_pair_by_its_angle() {
+        // One token at voxel (1, 2, 3): pair j of axis a turns by coord_a * 10000^(-2j/chunk).
+        let device = Device::flex();
+        let head_dim = 12;
+        let rope = Rope::new(&[[1.0, 2.0, 3.0]], 1, head_dim, &device);
+        let x: Vec<f32> = (0..head_dim).map(|i| 0.5 + i as f32).collect();
+        let turned = rope
+            .apply(Tensor::from_data(
+                TensorData::new(x.clone(), [1, 1, 1, head_dim]),
+                &device,
+            ))
+            .into_data()
+            .try_into_vec::<f32>()
+            .unwrap();
+        let chunk = head_dim / 3;
+        for pair in 0..head_dim / 2 {
+            let (axis, j) = (2 * pair / chunk, pair % (chunk / 2));
+            let angle = (axis + 1) as f64 * 10000f64.powf(-((2 * j) as f64) / chunk as f64);
+            let (s, c) = (angle.sin() as f32, angle.cos() as f32);
+            let (a, b) = (x[2 * pair], x[2 * pair + 1]);
+            let want = [a * c - b * s, b * c + a * s];
+            for (got, want) in turned[2 * pair..2 * pair + 2].iter().zip(want) {
+                assert!((got - want).abs() < 1e-5, "pair {pair}: {got} vs {want}");
+            }
+        }
     }
 }
