@@ -3,7 +3,7 @@
 # `bash scripts/train_dit.sh RUN [DATA]`.
 #
 # `meshflow train dit --vae weights --config weights/dit.train.json -o RUN`: 6,000 steps of 16
-# at lr 3e-4, every block reading 256 of the input points (about 65 minutes on the 2-core CPU).
+# at lr 3e-4, every block reading 256 of the input points (about 55 minutes on the 2-core CPU).
 # RUN/dit.* are the files to ship. The run resumes from its checkpoint when interrupted; it
 # logs to RUN/train.log and RUN/metrics.jsonl.
 set -euo pipefail
