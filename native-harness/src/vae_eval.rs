@@ -264,6 +264,16 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         share(w.far),
         w.total()
     );
+    let q = &s.quad_diagonals;
+    let percent = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+    println!(
+        "  quads' diagonals: the artist's scores higher in {:.0}% of {}; both pass tau in {}, \
+         the artist's higher in {:.0}% of those",
+        percent(q.taken_scores_higher, q.quads),
+        q.quads,
+        q.both_above_threshold,
+        percent(q.both_above_taken_higher, q.both_above_threshold)
+    );
     println!(
         "  the extracted meshes' edges: P/R/F1 {:.3}/{:.3}/{:.3}",
         s.mesh_edge_precision, s.mesh_edge_recall, s.mesh_edge_f1

@@ -99,6 +99,74 @@ pub fn wrong_edge_kinds(predicted: &[Edge], actual: &[Edge], positions: &[Vec3])
     kinds
 }
 
+/// How the decoder scores the two diagonals of the ground truth's quads: two triangles
+/// `i-k-l`, `j-k-l` whose shared edge `k-l` is the diagonal the artist took and `i-j` (not an
+/// edge) the one not taken. Counts over every such quad, summed across meshes; the shares
+/// say whether the artist's choice is in the scores at all, and whether the threshold can
+/// separate it (BENCHMARKS.md, issue 14).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct QuadDiagonals {
+    pub quads: usize,
+    /// Quads whose taken diagonal scores above the other one.
+    pub taken_scores_higher: usize,
+    /// Quads whose two diagonals both score above the threshold.
+    pub both_above_threshold: usize,
+    /// Of those, the quads whose taken diagonal scores higher.
+    pub both_above_taken_higher: usize,
+}
+
+impl std::ops::Add for QuadDiagonals {
+    type Output = Self;
+
+    fn add(self, o: Self) -> Self {
+        Self {
+            quads: self.quads + o.quads,
+            taken_scores_higher: self.taken_scores_higher + o.taken_scores_higher,
+            both_above_threshold: self.both_above_threshold + o.both_above_threshold,
+            both_above_taken_higher: self.both_above_taken_higher + o.both_above_taken_higher,
+        }
+    }
+}
+
+/// [`QuadDiagonals`] of the ground truth's `actual` edges over `n` vertices, `score(a, b)` being
+/// the decoder's score of the pair (an edge where it exceeds `tau`).
+pub fn quad_diagonals(
+    actual: &[Edge],
+    n: usize,
+    score: impl Fn(u32, u32) -> f32,
+    tau: f32,
+) -> QuadDiagonals {
+    let actual: Vec<Edge> = canonical_edges(actual)
+        .into_iter()
+        .filter(|e| (e[1] as usize) < n)
+        .collect();
+    let neighbours = adjacency(n, &actual);
+    let joined = |a: u32, b: u32| actual.binary_search(&[a.min(b), a.max(b)]).is_ok();
+    let mut out = QuadDiagonals::default();
+    for &[k, l] in &actual {
+        let common: Vec<u32> = neighbours[k as usize]
+            .iter()
+            .copied()
+            .filter(|c| neighbours[l as usize].binary_search(c).is_ok())
+            .collect();
+        for (x, &i) in common.iter().enumerate() {
+            for &j in &common[x + 1..] {
+                if joined(i, j) {
+                    continue; // a tetrahedron's corner, not a quad
+                }
+                let (taken, other) = (score(k, l), score(i, j));
+                out.quads += 1;
+                out.taken_scores_higher += (taken > other) as usize;
+                if taken > tau && other > tau {
+                    out.both_above_threshold += 1;
+                    out.both_above_taken_higher += (taken > other) as usize;
+                }
+            }
+        }
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -133,6 +201,42 @@ mod tests {
         let pad = [0, g.positions.len() as u32];
         let kinds = wrong_edge_kinds(&[pad, actual[0]], &actual, &g.positions);
         assert_eq!((kinds.far, kinds.total()), (1, 1));
+    }
+
+    #[test]
+    fn quad_diagonals_compare_the_taken_diagonal_with_the_other() {
+        // A 2 x 1 strip, each square split along (i, j)-(i+1, j+1): three edges have two
+        // triangles, so three quads. Left square: the untaken diagonal scores higher. Right
+        // square: both pass tau, the taken one higher. The middle edge (1, 0)-(1, 1) is the
+        // taken diagonal of the parallelogram (0, 0)-(1, 0)-(2, 1)-(1, 1): only it passes tau.
+        let g = grid(2, 1);
+        let actual = edges(&g.faces);
+        let v = |i: u32, j: u32| 3 * j + i;
+        let taken_left = [v(0, 0), v(1, 1)];
+        assert!(actual.contains(&taken_left));
+        let scored = [
+            ([v(1, 0), v(0, 1)], 2.0),
+            (taken_left, -1.0),
+            ([v(1, 1), v(2, 0)], 0.5),
+            ([v(0, 0), v(2, 1)], -5.0),
+        ];
+        let score = |a: u32, b: u32| {
+            let pair = [a.min(b), a.max(b)];
+            scored
+                .iter()
+                .find(|(p, _)| [p[0].min(p[1]), p[0].max(p[1])] == pair)
+                .map_or(1.0, |&(_, s)| s)
+        };
+        let q = quad_diagonals(&actual, g.positions.len(), score, 0.0);
+        assert_eq!(
+            q,
+            QuadDiagonals {
+                quads: 3,
+                taken_scores_higher: 2,
+                both_above_threshold: 1,
+                both_above_taken_higher: 1,
+            }
+        );
     }
 
     #[test]

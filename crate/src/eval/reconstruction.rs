@@ -8,7 +8,7 @@ use burn::tensor::Device;
 use serde::Serialize;
 
 use crate::Mesh;
-use crate::eval::edge_errors::WrongEdgeKinds;
+use crate::eval::edge_errors::{QuadDiagonals, WrongEdgeKinds};
 use crate::eval::metrics::{CompareOptions, Comparison};
 use crate::eval::sets::EvalSet;
 use crate::eval::summary::{SurfaceSummary, bucketed};
@@ -35,6 +35,8 @@ pub struct ReconstructionSummary {
     pub edge_f1_pooled: f64,
     /// The false positives of all meshes pooled, by kind.
     pub wrong_edges: WrongEdgeKinds,
+    /// The ground truth's quads of all meshes pooled: how their two diagonals score.
+    pub quad_diagonals: QuadDiagonals,
     /// Mean per-mesh precision / recall / F1 of the extracted meshes' edges.
     pub mesh_edge_precision: f64,
     pub mesh_edge_recall: f64,
@@ -72,6 +74,9 @@ impl ReconstructionSummary {
             wrong_edges: ms
                 .iter()
                 .fold(WrongEdgeKinds::default(), |acc, m| acc + m.wrong_edges),
+            quad_diagonals: ms
+                .iter()
+                .fold(QuadDiagonals::default(), |acc, m| acc + m.quad_diagonals),
             mesh_edge_precision: mean(&|m| m.mesh_edge_precision),
             mesh_edge_recall: mean(&|m| m.mesh_edge_recall),
             mesh_edge_f1: mean(&|m| m.mesh_edge_f1),

@@ -10,7 +10,7 @@ use glam::Vec3;
 use serde::Serialize;
 
 use crate::Mesh;
-use crate::eval::edge_errors::{WrongEdgeKinds, wrong_edge_kinds};
+use crate::eval::edge_errors::{QuadDiagonals, WrongEdgeKinds, quad_diagonals, wrong_edge_kinds};
 use crate::eval::metrics::{
     CompareOptions, Comparison, compare_meshes, edge_scores, normal_distance, vertex_distance,
 };
@@ -75,6 +75,8 @@ pub struct ReconstructionMetrics {
     pub false_negative_edges: usize,
     /// The false positives by how their two vertices relate in the ground truth.
     pub wrong_edges: WrongEdgeKinds,
+    /// How the scores of the ground truth's quads' two diagonals compare.
+    pub quad_diagonals: QuadDiagonals,
     /// The same scores for the edges of the extracted mesh, which is what a user gets: the
     /// extraction keeps some of the thresholded pairs (at most two faces an edge, consistent
     /// winding) and closes small holes with edges of its own.
@@ -221,6 +223,12 @@ pub fn reconstruct_batch(
         }
         let scores = edge_scores(&predicted, &t.edges);
         let wrong_edges = wrong_edge_kinds(&predicted, &t.edges, &t.positions[..real]);
+        let quad_diagonals = quad_diagonals(
+            &t.edges,
+            real,
+            |a, b| plane[a.min(b) as usize * n + a.max(b) as usize],
+            cfg.tau,
+        );
         let mask = &logits[rows.clone()];
         let mask_errors = mask
             .iter()
@@ -260,6 +268,7 @@ pub fn reconstruct_batch(
                 false_positive_edges: scores.predicted - scores.true_positives,
                 false_negative_edges: scores.actual - scores.true_positives,
                 wrong_edges,
+                quad_diagonals,
                 mesh_edge_precision: mesh_scores.precision,
                 mesh_edge_recall: mesh_scores.recall,
                 mesh_edge_f1: mesh_scores.f1,
