@@ -594,6 +594,110 @@ fn vertex_blocks_start_as_the_identity_and_then_learn() {
     );
 }
 
+/// Edge-embedding channels added to a trained decoder (`widen_edge_embeddings`) start nearly
+/// silent and then learn: a decoder-only run from the widened weights moves the added output
+/// rows and lowers the validation loss the widened decoder started at.
+#[test]
+fn widened_edge_embeddings_learn_in_a_decoder_only_run() {
+    use meshflow::model::widen_edge_embeddings;
+    use meshflow::train::vae::train_vae_from;
+    let (device, data) = (Device::flex(), meshes());
+    let mut quiet = Quiet::new();
+    let base_cfg = small_config(60);
+    let base = trained_base("edge-base");
+    let mut cfg = small_config(60);
+    cfg.decoder_only = true;
+    cfg.model.edge_dim = 2 * base_cfg.model.edge_dim;
+    assert!(cfg.model.continues_decoder_of(&base_cfg.model));
+    let mut widened = base.clone();
+    widen_edge_embeddings(
+        &mut widened,
+        base_cfg.model.edge_dim,
+        cfg.model.edge_dim,
+        0.1,
+        5,
+    )
+    .unwrap();
+    let loss = |w: &meshflow::model::TensorMap| {
+        let vae = load_module(MeshVae::new(&cfg.model, &device), w, &|_| false).unwrap();
+        validate(&vae, &data, &cfg, &device, 0).unwrap().val_loss
+    };
+    let dir = temp_dir("edge-wide");
+    let trained = train_vae_from(
+        &cfg,
+        Some(&widened),
+        &data,
+        &data,
+        &dir,
+        &device,
+        &mut quiet,
+    )
+    .unwrap()
+    .weights;
+    // Row 3 * edge_dim / 4 is the first added time channel.
+    let (name, hidden) = (
+        "decoder.adjacency_head.2.weight",
+        cfg.model.width_decoder / 2,
+    );
+    let row = 3 * cfg.model.edge_dim / 4;
+    let added = |w: &meshflow::model::TensorMap| {
+        w.tensors[name].1[row * hidden..(row + 1) * hidden].to_vec()
+    };
+    assert_ne!(added(&widened), added(&trained));
+    let (before, after) = (loss(&widened), loss(&trained));
+    assert!(after < before, "validation loss {before} -> {after}");
+}
+
+/// A pair head added to a trained decoder starts silent (the same validation figures as
+/// without it) and then learns in a decoder-only run: its output layer leaves zero and the
+/// validation loss, which now scores the refined distances too, falls.
+#[test]
+fn a_pair_head_starts_silent_and_learns_in_a_decoder_only_run() {
+    use meshflow::model::{load_module_keeping, module_tensors, seeded_init};
+    use meshflow::train::vae::train_vae_from;
+    let (device, data) = (Device::flex(), meshes());
+    let mut quiet = Quiet::new();
+    let base_cfg = small_config(60);
+    let base = trained_base("pair-base");
+    let mut cfg = small_config(60);
+    cfg.decoder_only = true;
+    cfg.model.pair_head = 16;
+    assert!(cfg.model.continues_decoder_of(&base_cfg.model));
+    let plain = load_module(MeshVae::new(&base_cfg.model, &device), &base, &|_| false).unwrap();
+    let grown = load_module_keeping(
+        seeded_init(MeshVae::new(&cfg.model, &device), cfg.seed),
+        &base,
+        &|_| false,
+        &|name| name.contains("pair_head"),
+    )
+    .unwrap();
+    let before = validate(&plain, &data, &base_cfg, &device, 0).unwrap();
+    let grown_before = validate(&grown, &data, &cfg, &device, 0).unwrap();
+    assert_eq!(before.edge_f1, grown_before.edge_f1);
+    assert_eq!(before.edge_f1_best_tau, grown_before.edge_f1_best_tau);
+
+    let dir = temp_dir("pair-head");
+    let trained = train_vae_from(&cfg, Some(&base), &data, &data, &dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
+    let output = "decoder.pair_head.2.weight";
+    assert!(
+        module_tensors(&grown).tensors[output]
+            .1
+            .iter()
+            .all(|&v| v == 0.0)
+    );
+    assert!(trained.tensors[output].1.iter().any(|&v| v != 0.0));
+    let vae = load_module(MeshVae::new(&cfg.model, &device), &trained, &|_| false).unwrap();
+    let after = validate(&vae, &data, &cfg, &device, 0).unwrap();
+    assert!(
+        after.val_loss < grown_before.val_loss,
+        "validation loss {} -> {}",
+        grown_before.val_loss,
+        after.val_loss
+    );
+}
+
 #[test]
 fn validation_scores_edges_at_the_threshold_extraction_uses() {
     // The manifest's final validation must describe the VAE as it ships: its edges scored at

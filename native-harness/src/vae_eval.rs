@@ -253,8 +253,9 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         s.surface.chamfer_x100,
         s.surface.hausdorff_x100
     );
+    let percent = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
     let w = &s.wrong_edges;
-    let share = |k: usize| 100.0 * k as f64 / w.total().max(1) as f64;
+    let share = |k: usize| percent(k, w.total());
     println!(
         "  wrong edges: {:.0}% quad diagonals, {:.0}% two hops, {:.0}% near in space, {:.0}% far \
          (of {})",
@@ -265,7 +266,6 @@ pub fn eval_vae(args: EvalVaeArgs) -> Result<()> {
         w.total()
     );
     let q = &s.quad_diagonals;
-    let percent = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
     println!(
         "  quads' diagonals: the artist's scores higher in {:.0}% of {}; both pass tau in {}, \
          the artist's higher in {:.0}% of those",

@@ -237,6 +237,9 @@ pub enum FaceSupport<'a> {
     /// By the smallest margin `d - tau` over the face's three edges (the model's confidence),
     /// with the embeddings of the (kept) vertices, `dim` values per vertex.
     EdgeMargin { embeddings: &'a [f32], dim: usize },
+    /// The same margin from given pair scores (a pair head's refined distances): `distances`
+    /// is `n x n` row-major over the (kept) vertices, its upper triangle read.
+    DistanceMargin { distances: &'a [f32] },
 }
 
 /// The spacetime distance between two edge embeddings of equal, even length.
@@ -559,6 +562,15 @@ pub fn extract_mesh(
             expected: n * dim,
         });
     }
+    if let FaceSupport::DistanceMargin { distances } = support
+        && distances.len() != n * n
+    {
+        return Err(ExtractError::LengthMismatch {
+            what: "pair distances",
+            got: distances.len(),
+            expected: n * n,
+        });
+    }
     let normals: Vec<Vec3> = normals
         .iter()
         .map(|v| v.clamp(Vec3::splat(-1.0), Vec3::ONE))
@@ -686,6 +698,14 @@ fn face_scores(
                     .map(|&(a, b)| spacetime_distance(h(a), h(b)) - tau)
                     .fold(f32::INFINITY, f32::min)
             }
+            FaceSupport::DistanceMargin { distances } => {
+                let n = positions.len();
+                let d = |a: u32, b: u32| distances[a.min(b) as usize * n + a.max(b) as usize];
+                [(f[0], f[1]), (f[1], f[2]), (f[2], f[0])]
+                    .iter()
+                    .map(|&(a, b)| d(a, b) - tau)
+                    .fold(f32::INFINITY, f32::min)
+            }
         }
     };
     faces.iter().map(score).collect()
@@ -747,6 +767,10 @@ pub struct DecodedVertices<'a> {
 pub enum DecodedEdges<'a> {
     /// The edge embeddings, `dim` values per vertex, thresholded on the CPU after masking.
     Embeddings { values: &'a [f32], dim: usize },
+    /// Pair scores compared with tau as spacetime distances are (a pair head's refined
+    /// distances, [`crate::model::MeshVae::edge_distances`]): `n x n` row-major over all `n`
+    /// decoded vertices, the upper triangle read; masked after reading.
+    Distances { values: &'a [f32] },
     /// The bit matrix of the GPU threshold (`threshold_gpu`, feature `wgpu`), which has
     /// applied the mask and tau already; see [`edges_from_bits`].
     Bits {
@@ -827,6 +851,12 @@ pub fn extract_from_decoded(
     let kept: Vec<usize> = (0..n).filter(|&i| decoded.mask_logits[i] > 0.0).collect();
     let positions: Vec<Vec3> = kept.iter().map(|&i| decoded.positions[i]).collect();
     let normals: Vec<Vec3> = kept.iter().map(|&i| decoded.normals[i]).collect();
+    // The manifold method takes candidate edges a little below tau (its faces are ranked
+    // by their margins); Algorithm 1 thresholds at tau.
+    let edge_tau = match opts.method {
+        ExtractMethod::Manifold => opts.tau - opts.candidate_slack,
+        ExtractMethod::Paper => opts.tau,
+    };
     let (mesh, mut report) = match decoded.edges {
         DecodedEdges::Embeddings { values, dim } => {
             if values.len() != n * dim {
@@ -846,14 +876,43 @@ pub fn extract_from_decoded(
                 .iter()
                 .flat_map(|&i| values[i * dim..(i + 1) * dim].iter().copied())
                 .collect();
-            let edge_tau = match opts.method {
-                ExtractMethod::Manifold => opts.tau - opts.candidate_slack,
-                ExtractMethod::Paper => opts.tau,
-            };
             let edges = spacetime_edges(&embeddings, dim, edge_tau)?;
             let support = FaceSupport::EdgeMargin {
                 embeddings: &embeddings,
                 dim,
+            };
+            extract_mesh(&positions, &normals, &edges, support, opts)?
+        }
+        DecodedEdges::Distances { values } => {
+            if values.len() != n * n {
+                return Err(ExtractError::LengthMismatch {
+                    what: "pair distances",
+                    got: values.len(),
+                    expected: n * n,
+                });
+            }
+            if let Some(i) = values.iter().position(|x| !x.is_finite()) {
+                return Err(ExtractError::NonFinite {
+                    what: "pair distances",
+                    row: i / n,
+                });
+            }
+            // The kept vertices' pairs, renumbered; `kept` is ascending, so a < b reads the
+            // upper triangle.
+            let k = kept.len();
+            let mut distances = vec![0f32; k * k];
+            for (a, &i) in kept.iter().enumerate() {
+                for (b, &j) in kept.iter().enumerate().skip(a + 1) {
+                    distances[a * k + b] = values[i * n + j];
+                }
+            }
+            let edges: Vec<Edge> = (0..k)
+                .flat_map(|a| (a + 1..k).map(move |b| (a, b)))
+                .filter(|&(a, b)| distances[a * k + b] > edge_tau)
+                .map(|(a, b)| [a as u32, b as u32])
+                .collect();
+            let support = FaceSupport::DistanceMargin {
+                distances: &distances,
             };
             extract_mesh(&positions, &normals, &edges, support, opts)?
         }
@@ -1298,6 +1357,73 @@ mod tests {
             ExtractError::NonFinite {
                 what: "positions",
                 row: 3
+            }
+        );
+    }
+
+    /// Pair distances given as a matrix (a pair head's) extract exactly as the embeddings they
+    /// were computed from, with either method, masked vertices included; a matrix of the
+    /// wrong size or with a NaN is refused.
+    #[test]
+    fn pair_distances_extract_as_the_embeddings_they_come_from() {
+        let mut rng = crate::rng::Rng::new(17);
+        let (n, dim) = (60, 8);
+        let emb: Vec<f32> = (0..n * dim).map(|_| rng.normal() as f32 * 0.6).collect();
+        let positions: Vec<Vec3> = (0..n)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()))
+            .collect();
+        let normals = vec![Vec3::Z; n];
+        let mask: Vec<f32> = (0..n)
+            .map(|i| if i % 7 == 3 { -1.0 } else { 1.0 })
+            .collect();
+        let h = |i: usize| &emb[i * dim..(i + 1) * dim];
+        let mut distances = vec![0f32; n * n];
+        for i in 0..n {
+            for j in 0..n {
+                distances[i * n + j] = spacetime_distance(h(i), h(j));
+            }
+        }
+        let decoded = DecodedVertices {
+            mask_logits: &mask,
+            positions: &positions,
+            normals: &normals,
+            edges: DecodedEdges::Embeddings { values: &emb, dim },
+        };
+        let from_matrix = DecodedVertices {
+            edges: DecodedEdges::Distances { values: &distances },
+            ..decoded
+        };
+        for opts in [
+            ExtractOptions::paper(),
+            ExtractOptions {
+                tau: 0.5,
+                ..Default::default()
+            },
+        ] {
+            let (mesh, report) = extract_from_decoded(&decoded, &opts).unwrap();
+            assert!(!mesh.faces.is_empty());
+            assert_eq!(
+                extract_from_decoded(&from_matrix, &opts).unwrap(),
+                (mesh, report)
+            );
+        }
+        let short = DecodedVertices {
+            edges: DecodedEdges::Distances {
+                values: &distances[1..],
+            },
+            ..decoded
+        };
+        assert!(extract_from_decoded(&short, &ExtractOptions::paper()).is_err());
+        distances[5 * n + 9] = f32::NAN;
+        let nan = DecodedVertices {
+            edges: DecodedEdges::Distances { values: &distances },
+            ..decoded
+        };
+        assert_eq!(
+            extract_from_decoded(&nan, &ExtractOptions::paper()).unwrap_err(),
+            ExtractError::NonFinite {
+                what: "pair distances",
+                row: 5
             }
         );
     }

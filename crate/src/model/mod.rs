@@ -16,7 +16,10 @@ pub mod tokens;
 pub mod vae;
 pub mod weights;
 
-pub use vae::{Decoded, MeshVae, Posterior, Trace, VaeConfig, spacetime_distances};
+pub use vae::{
+    Decoded, MeshVae, PAIR_CANDIDATES, Posterior, Trace, VaeConfig, pair_candidates,
+    spacetime_distances, widen_edge_embeddings,
+};
 pub use weights::{
     TensorMap, WeightsError, load_module, load_module_keeping, module_tensors, seeded_init,
 };

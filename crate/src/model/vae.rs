@@ -16,7 +16,7 @@
 use burn::module::Module;
 use burn::nn::{LayerNorm, Linear};
 use burn::tensor::activation::{leaky_relu, tanh};
-use burn::tensor::{Device, Tensor};
+use burn::tensor::{Device, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::layers::{CrossAttentionBlock, SelfAttentionBlock, layer_norm, linear};
@@ -59,6 +59,15 @@ pub struct VaeConfig {
     /// before until it is trained. 0 (the reference layout) is left out of the JSON.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub num_layers_vertex: usize,
+    /// Hidden width of the pair head (0, the reference layout, left out of the JSON: none).
+    /// Not in the paper: there a pair's score is the spacetime distance of two embeddings
+    /// each decoded on its own. The pair head rescores each vertex's
+    /// [`PAIR_CANDIDATES`] highest-scoring partners from both vertices' decoder features
+    /// ([`MeshVae::refine_distances`]), adding a learned correction to their distance. Its
+    /// output layer starts at zero, so a trained decoder that gains one scores exactly as
+    /// before until it is trained.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub pair_head: usize,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -83,6 +92,7 @@ impl VaeConfig {
             tau: 0.6,
             length_buckets: false,
             num_layers_vertex: 0,
+            pair_head: 0,
         }
     }
 
@@ -162,7 +172,11 @@ impl VaeConfig {
             + self.num_layers_vertex as f64 * block(n, n, wd)
             + heads;
         let distances = 2.0 * n * n * e;
-        encoder + decoder + distances
+        // The pair head on each vertex's candidates (none when pair_head is 0).
+        let hp = self.pair_head as f64;
+        let pairs =
+            n * PAIR_CANDIDATES as f64 * (linear(1.0, 2.0 * wd + 1.0, hp) + linear(1.0, hp, 1.0));
+        encoder + decoder + distances + pairs
     }
 
     /// Whether `other` encodes meshes with the same encoder shapes: every size the encoder and
@@ -174,6 +188,7 @@ impl VaeConfig {
             num_layers_decoder: 0,
             num_layers_vertex: 0,
             edge_dim: 0,
+            pair_head: 0,
             tau: 0.0,
             ..c.clone()
         };
@@ -182,11 +197,18 @@ impl VaeConfig {
 
     /// Whether a decoder-only run of this configuration starts from `other`'s whole trained
     /// decoder: the same shapes, with as many vertex blocks ([`Self::num_layers_vertex`]) or
-    /// more (added ones start as the identity). The threshold may differ: it is not a shape.
+    /// more (added ones start as the identity), as many edge-embedding channels or more
+    /// (added ones start nearly silent, [`widen_edge_embeddings`]), and the same pair head or
+    /// a new one where it had none (it starts silent). The threshold may differ: it is not a
+    /// shape.
     pub fn continues_decoder_of(&self, other: &VaeConfig) -> bool {
         self.num_layers_vertex >= other.num_layers_vertex
+            && self.edge_dim >= other.edge_dim
+            && (other.pair_head == 0 || other.pair_head == self.pair_head)
             && VaeConfig {
                 num_layers_vertex: other.num_layers_vertex,
+                edge_dim: other.edge_dim,
+                pair_head: other.pair_head,
                 tau: other.tau,
                 ..self.clone()
             } == *other
@@ -242,9 +264,13 @@ pub struct Head {
 
 impl Head {
     fn new(width: usize, out: usize, device: &Device) -> Self {
+        Self::with_hidden(width, width / 2, out, device)
+    }
+
+    fn with_hidden(width: usize, hidden: usize, out: usize, device: &Device) -> Self {
         Self {
-            hidden: linear(width, width / 2, true, device),
-            output: linear(width / 2, out, true, device),
+            hidden: linear(width, hidden, true, device),
+            output: linear(hidden, out, true, device),
         }
     }
 
@@ -277,6 +303,8 @@ pub struct Decoder {
     pub verts_head: Head,
     pub verts_normal_head: Head,
     pub adjacency_head: Head,
+    /// [`VaeConfig::pair_head`]: `[h_i + h_j | h_i * h_j | d_ij]` to a correction of d_ij.
+    pub pair_head: Option<Head>,
 }
 
 /// The MeshVAE. Build with [`MeshVae::new`]; load weights with
@@ -313,6 +341,9 @@ pub struct Decoded {
     pub normals: Tensor<3>,
     /// `[B, N, edge_dim]`.
     pub edge_embeddings: Tensor<3>,
+    /// `[B, N, width_decoder]`: the normalised vertex features every head reads (the pair
+    /// head reads two of them).
+    pub features: Tensor<3>,
 }
 
 /// Named intermediate tensors, recorded only when enabled (the golden test compares them).
@@ -365,6 +396,8 @@ impl MeshVae {
             verts_head: Head::new(wd, 3, device),
             verts_normal_head: Head::new(wd, 3, device),
             adjacency_head: Head::new(wd, cfg.edge_dim, device),
+            pair_head: (cfg.pair_head > 0)
+                .then(|| Head::with_hidden(2 * wd + 1, cfg.pair_head, 1, device)),
         };
         Self {
             encoder,
@@ -401,6 +434,74 @@ impl MeshVae {
         Posterior { mean, logvar }
     }
 
+    /// The score of every pair of decoded vertices, `[B, N, N]`: the spacetime distances of
+    /// the edge embeddings, refined by the pair head (if any) from the vertex `features` at
+    /// the candidates among each mesh's real vertex slots `real[b]` ([`pair_candidates`],
+    /// chosen on the host). Both tensors as [`MeshVae::decode`] gives them.
+    pub fn edge_distances(
+        &self,
+        edge_embeddings: Tensor<3>,
+        features: Tensor<3>,
+        real: &[Vec<u32>],
+    ) -> Tensor<3> {
+        let distances = spacetime_distances(edge_embeddings);
+        if self.decoder.pair_head.is_none() {
+            return distances;
+        }
+        let n = distances.dims()[1];
+        let host = distances
+            .clone()
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .expect("f32 distances");
+        let pairs = pair_candidates(&host, n, real);
+        self.refine_distances(distances, features, &pairs)
+    }
+
+    /// Spacetime distances `distances` (`[B, N, N]`, from [`spacetime_distances`]) with the
+    /// pair head's correction added at `pairs` (from [`pair_candidates`]); unchanged without a
+    /// pair head. `features` are the decoder's ([`Decoded::features`]).
+    pub fn refine_distances(
+        &self,
+        distances: Tensor<3>,
+        features: Tensor<3>,
+        pairs: &[[u32; 3]],
+    ) -> Tensor<3> {
+        let Some(head) = &self.decoder.pair_head else {
+            return distances;
+        };
+        if pairs.is_empty() {
+            return distances;
+        }
+        let [b, n, w] = features.dims();
+        let device = features.device();
+        let index = |f: &dyn Fn(&[u32; 3]) -> usize| {
+            let values: Vec<i64> = pairs.iter().map(|p| f(p) as i64).collect();
+            Tensor::<1, burn::tensor::Int>::from_data(
+                TensorData::new(values, [pairs.len()]),
+                &device,
+            )
+        };
+        let at = index(&|&[k, i, j]| (k as usize * n + i as usize) * n + j as usize);
+        let rows = features.reshape([b * n, w]);
+        let h_i = rows
+            .clone()
+            .select(0, index(&|&[k, i, _]| k as usize * n + i as usize));
+        let h_j = rows.select(0, index(&|&[k, _, j]| k as usize * n + j as usize));
+        let flat = distances.clone().reshape([b * n * n]);
+        let d = flat.clone().select(0, at.clone()).reshape([pairs.len(), 1]);
+        let input = Tensor::cat(vec![h_i.clone() + h_j.clone(), h_i * h_j, d], 1);
+        let correction = head.forward(input.unsqueeze_dim(0)).reshape([pairs.len()]);
+        let added = Tensor::<1>::zeros([b * n * n], &device).select_assign(
+            0,
+            at,
+            correction,
+            burn::tensor::IndexingUpdateOp::Add,
+        );
+        distances + added.reshape([b, n, n])
+    }
+
     /// Latents `[B, N/r, D]` to per-vertex outputs.
     pub fn decode(&self, z: Tensor<3>, trace: &mut Trace) -> Decoded {
         let d = &self.decoder;
@@ -428,9 +529,124 @@ impl MeshVae {
             mask_logits: d.mask_head.forward(x.clone()),
             positions: d.verts_head.forward(x.clone()),
             normals: tanh(d.verts_normal_head.forward(x.clone())),
-            edge_embeddings: d.adjacency_head.forward(x),
+            edge_embeddings: d.adjacency_head.forward(x.clone()),
+            features: x,
         }
     }
+}
+
+/// How many partners of each real vertex the pair head rescores: its highest-scoring ones.
+/// Ground-truth meshes here have about six neighbours a vertex; the confusions the pair head
+/// is for (a quad's other diagonal, two hops, the other side of a thin part) rank just below.
+pub const PAIR_CANDIDATES: usize = 16;
+
+/// The pairs a pair head rescores in a batch of spacetime distances (`distances`, `[B, n, n]`
+/// row-major): for mesh `b` and each of its real vertex slots `i` (`real[b]`, slots below
+/// `n`), its [`PAIR_CANDIDATES`] highest-scoring real partners. Each pair once, as `(b, i, j)`
+/// with `i < j`, sorted.
+pub fn pair_candidates(distances: &[f32], n: usize, real: &[Vec<u32>]) -> Vec<[u32; 3]> {
+    let mut pairs = Vec::new();
+    let mut row: Vec<(f32, usize)> = Vec::with_capacity(n);
+    for (b, slots) in real.iter().enumerate() {
+        let plane = &distances[b * n * n..(b + 1) * n * n];
+        for &i in slots {
+            let i = i as usize;
+            row.clear();
+            // Read the upper triangle, so a pair has one score whatever its order.
+            row.extend(
+                slots
+                    .iter()
+                    .map(|&j| j as usize)
+                    .filter(|&j| j != i)
+                    .map(|j| {
+                        let (a, c) = (i.min(j), i.max(j));
+                        (plane[a * n + c], j)
+                    }),
+            );
+            let k = PAIR_CANDIDATES.min(row.len());
+            if k < row.len() {
+                row.select_nth_unstable_by(k, |x, y| y.0.total_cmp(&x.0));
+            }
+            for &(_, j) in &row[..k] {
+                pairs.push([b as u32, i.min(j) as u32, i.max(j) as u32]);
+            }
+        }
+    }
+    pairs.sort_unstable();
+    pairs.dedup();
+    pairs
+}
+
+/// The adjacency head's output layer, reference names (`[out, in]` weight and `[out]` bias).
+const EDGE_OUTPUT_WEIGHT: &str = "decoder.adjacency_head.2.weight";
+const EDGE_OUTPUT_BIAS: &str = "decoder.adjacency_head.2.bias";
+
+/// Widens trained VAE weights (`map`, reference names) from `from` to `to` edge-embedding
+/// channels, both even, so that a decoder-only run can continue them with a more expressive
+/// pair score. The spacetime layout is kept: the old space channels stay the first of the new
+/// space half and the old time channels the first of the new time half. The added output rows
+/// are drawn from a normal distribution with `scale` times the old rows' standard deviation
+/// (seeded by `seed`) and their biases are 0: exactly 0 would leave them without a gradient
+/// (a pair's distance in a channel where every vertex sits at the same point does not move),
+/// while a small scale leaves every spacetime distance close to the trained one.
+pub fn widen_edge_embeddings(
+    map: &mut crate::model::weights::TensorMap,
+    from: usize,
+    to: usize,
+    scale: f32,
+    seed: u64,
+) -> Result<(), String> {
+    if !from.is_multiple_of(2) || !to.is_multiple_of(2) || to < from {
+        return Err(format!(
+            "edge_dim can only grow between even sizes (from {from} to {to})"
+        ));
+    }
+    let (w_shape, weight) = map
+        .tensors
+        .get(EDGE_OUTPUT_WEIGHT)
+        .cloned()
+        .ok_or_else(|| format!("{EDGE_OUTPUT_WEIGHT} is missing"))?;
+    let (b_shape, bias) = map
+        .tensors
+        .get(EDGE_OUTPUT_BIAS)
+        .cloned()
+        .ok_or_else(|| format!("{EDGE_OUTPUT_BIAS} is missing"))?;
+    if w_shape.len() != 2 || w_shape[0] != from || b_shape != [from] {
+        return Err(format!(
+            "{EDGE_OUTPUT_WEIGHT} is {w_shape:?} and {EDGE_OUTPUT_BIAS} {b_shape:?}; \
+             expected [{from}, hidden] and [{from}]"
+        ));
+    }
+    let hidden = w_shape[1];
+    let n = weight.len() as f64;
+    let mean = weight.iter().map(|&x| x as f64).sum::<f64>() / n;
+    let std = (weight
+        .iter()
+        .map(|&x| (x as f64 - mean).powi(2))
+        .sum::<f64>()
+        / n)
+        .sqrt();
+    let mut rng = crate::rng::Rng::new(seed);
+    let (half_from, half_to) = (from / 2, to / 2);
+    let mut wide_weight = Vec::with_capacity(to * hidden);
+    let mut wide_bias = Vec::with_capacity(to);
+    for half in 0..2 {
+        for row in 0..half_to {
+            if row < half_from {
+                let old = half * half_from + row;
+                wide_weight.extend_from_slice(&weight[old * hidden..(old + 1) * hidden]);
+                wide_bias.push(bias[old]);
+            } else {
+                wide_weight.extend((0..hidden).map(|_| (rng.normal() * std) as f32 * scale));
+                wide_bias.push(0.0);
+            }
+        }
+    }
+    map.tensors
+        .insert(EDGE_OUTPUT_WEIGHT.into(), (vec![to, hidden], wide_weight));
+    map.tensors
+        .insert(EDGE_OUTPUT_BIAS.into(), (vec![to], wide_bias));
+    Ok(())
 }
 
 /// Spacetime distances `[B, N, N]` of edge embeddings `[B, N, E]`:
@@ -484,5 +700,167 @@ mod tests {
             serde_json::from_str(&serde_json::to_string(&grown).unwrap()).unwrap();
         assert_eq!(round, grown);
         assert!(grown.forward_flops(64) > base.forward_flops(64));
+        let wider_edges = VaeConfig {
+            edge_dim: 64,
+            ..grown.clone()
+        };
+        assert!(wider_edges.continues_decoder_of(&base));
+        assert!(!base.continues_decoder_of(&wider_edges));
+    }
+
+    /// Each real vertex's highest-scoring partners are candidates, each pair once and in order,
+    /// and padding slots never are.
+    #[test]
+    fn pair_candidates_are_each_real_vertexs_best_partners() {
+        let (n, real) = (24, [(0..20).collect::<Vec<u32>>(), vec![4, 9, 23]]);
+        let mut rng = crate::rng::Rng::new(11);
+        let mut distances = vec![0f32; 2 * n * n];
+        for b in 0..2 {
+            for i in 0..n {
+                for j in i + 1..n {
+                    let v = rng.normal() as f32;
+                    distances[b * n * n + i * n + j] = v;
+                    distances[b * n * n + j * n + i] = v;
+                }
+            }
+        }
+        let pairs = pair_candidates(&distances, n, &real);
+        assert!(pairs.windows(2).all(|w| w[0] < w[1]));
+        for &[b, i, j] in &pairs {
+            assert!(i < j && real[b as usize].contains(&i) && real[b as usize].contains(&j));
+        }
+        for (b, slots) in real.iter().enumerate() {
+            for &i in slots {
+                let i = i as usize;
+                let score = |j: usize| distances[b * n * n + i.min(j) * n + i.max(j)];
+                let mut partners: Vec<usize> = slots
+                    .iter()
+                    .map(|&j| j as usize)
+                    .filter(|&j| j != i)
+                    .collect();
+                partners.sort_by(|&x, &y| score(y).total_cmp(&score(x)));
+                for &j in partners.iter().take(PAIR_CANDIDATES) {
+                    let pair = [b as u32, i.min(j) as u32, i.max(j) as u32];
+                    assert!(pairs.binary_search(&pair).is_ok(), "{pair:?} missing");
+                }
+            }
+        }
+        // Mesh 1 has 3 real vertices (not the first slots): its 3 pairs, no more.
+        assert_eq!(pairs.iter().filter(|p| p[0] == 1).count(), 3);
+    }
+
+    /// A new pair head changes nothing until trained; once its output layer is not zero it
+    /// moves the candidates' distances and no other pair's.
+    #[test]
+    fn the_pair_head_starts_silent_and_rescores_only_candidates() {
+        use crate::model::seeded_init;
+        use crate::model::weights::{load_module, module_tensors};
+        let device = Device::flex();
+        let cfg = VaeConfig {
+            pair_head: 16,
+            ..VaeConfig::vae_small()
+        };
+        assert!(cfg.continues_decoder_of(&VaeConfig::vae_small()));
+        assert!(
+            serde_json::to_string(&cfg)
+                .unwrap()
+                .contains("\"pair_head\":16")
+        );
+        let vae = seeded_init(MeshVae::new(&cfg, &device), 5);
+        let z = Tensor::<3>::random(
+            [2, cfg.num_latents, cfg.latent_dim],
+            burn::tensor::Distribution::Normal(0.0, 1.0),
+            &device,
+        );
+        let out = vae.decode(z, &mut Trace::default());
+        let real = [
+            (0..cfg.num_vertices as u32).collect(),
+            (0..10).collect::<Vec<u32>>(),
+        ];
+        let values = |t: Tensor<3>| t.into_data().convert::<f32>().try_to_vec::<f32>().unwrap();
+        let plain = values(spacetime_distances(out.edge_embeddings.clone()));
+        let silent =
+            values(vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &real));
+        assert_eq!(plain, silent);
+
+        let mut map = module_tensors(&vae);
+        map.tensors
+            .get_mut("decoder.pair_head.2.bias")
+            .expect("the pair head's output bias")
+            .1 = vec![1.5];
+        let trained = load_module(MeshVae::new(&cfg, &device), &map, &|_| false).unwrap();
+        let refined = values(trained.edge_distances(
+            out.edge_embeddings.clone(),
+            out.features.clone(),
+            &real,
+        ));
+        let pairs = pair_candidates(&plain, cfg.num_vertices, &real);
+        let n = cfg.num_vertices;
+        for (at, (&a, &b)) in refined.iter().zip(&plain).enumerate() {
+            let (k, i, j) = (at / (n * n), at / n % n, at % n);
+            let candidate = pairs.binary_search(&[k as u32, i as u32, j as u32]).is_ok();
+            if candidate {
+                assert!((a - b - 1.5).abs() < 1e-4, "({k}, {i}, {j}): {b} -> {a}");
+            } else {
+                assert_eq!(a, b, "({k}, {i}, {j}) is not a candidate");
+            }
+        }
+    }
+
+    /// Widened weights decode the same vertices and, with silent added channels, exactly the
+    /// same spacetime distances; with the scale used in training, nearly the same.
+    #[test]
+    fn widened_edge_embeddings_keep_the_trained_distances() {
+        use crate::model::seeded_init;
+        use crate::model::weights::{TensorMap, load_module, module_tensors};
+        let device = Device::flex();
+        let base = VaeConfig::vae_small();
+        let wide = VaeConfig {
+            edge_dim: 48,
+            ..base.clone()
+        };
+        let vae = seeded_init(MeshVae::new(&base, &device), 3);
+        let map: TensorMap = module_tensors(&vae);
+        let z = Tensor::<3>::random(
+            [2, base.num_latents, base.latent_dim],
+            burn::tensor::Distribution::Normal(0.0, 1.0),
+            &device,
+        );
+        let distances = |m: &MeshVae| {
+            let out = m.decode(z.clone(), &mut Trace::default());
+            (
+                spacetime_distances(out.edge_embeddings)
+                    .into_data()
+                    .convert::<f32>()
+                    .try_to_vec::<f32>()
+                    .unwrap(),
+                out.positions
+                    .into_data()
+                    .convert::<f32>()
+                    .try_to_vec::<f32>()
+                    .unwrap(),
+            )
+        };
+        let (d0, p0) = distances(&vae);
+        for (scale, tolerance) in [(0.0, 0.0), (0.1, 0.1)] {
+            let mut widened = map.clone();
+            widen_edge_embeddings(&mut widened, 32, 48, scale, 7).unwrap();
+            let grown = load_module(MeshVae::new(&wide, &device), &widened, &|_| false).unwrap();
+            let (d, p) = distances(&grown);
+            assert_eq!(p, p0);
+            let typical = d0.iter().map(|x| x.abs()).sum::<f32>() / d0.len() as f32;
+            let worst = d
+                .iter()
+                .zip(&d0)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f32::max);
+            assert!(
+                worst <= tolerance * typical,
+                "scale {scale}: {worst} against {typical}"
+            );
+        }
+        let mut odd = map.clone();
+        assert!(widen_edge_embeddings(&mut odd, 32, 47, 0.1, 7).is_err());
+        assert!(widen_edge_embeddings(&mut odd, 16, 32, 0.1, 7).is_err());
     }
 }

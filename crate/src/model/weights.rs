@@ -367,14 +367,15 @@ impl ModuleMapper for SeededInit {
         let n = dims.iter().product::<usize>();
         let last = self.path.last().map(String::as_str).unwrap_or("");
         // A decoder's vertex block starts as the identity (VaeConfig::num_layers_vertex): its
-        // two residual branches end in zero projections.
+        // two residual branches end in zero projections; a pair head's correction starts at 0.
         let parent = self
             .path
             .len()
             .checked_sub(2)
             .map(|i| self.path[i].as_str());
-        let zero_output = self.path.iter().any(|p| p == "vertex_blocks")
-            && matches!(parent, Some("to_out" | "linear_out"));
+        let zero_output = (self.path.iter().any(|p| p == "vertex_blocks")
+            && matches!(parent, Some("to_out" | "linear_out")))
+            || (self.path.iter().any(|p| p == "pair_head") && parent == Some("output"));
         let values: Vec<f32> = match (last, D) {
             _ if zero_output => vec![0.0; n],
             ("gamma", _) => vec![1.0; n],

@@ -20,7 +20,7 @@ use crate::extract::{
 use crate::geometry::clean::{CleanOptions, clean};
 use crate::geometry::normalize::Normalization;
 use crate::model::tokens::{TokenError, VertexTokens, build_tokens};
-use crate::model::{MeshVae, Trace, VaeConfig, spacetime_distances};
+use crate::model::{MeshVae, Trace, VaeConfig};
 
 /// Why a mesh could not be reconstructed.
 #[derive(Debug, thiserror::Error)]
@@ -197,7 +197,12 @@ pub fn reconstruct_batch(
     let x = Tensor::from_data(burn::tensor::TensorData::new(features, [b, n, c]), device);
     let posterior = vae.encode(x, &mut Trace::default());
     let out = vae.decode(posterior.mean, &mut Trace::default());
-    let distances = read(spacetime_distances(out.edge_embeddings.clone()))?;
+    let reals: Vec<Vec<u32>> = tokens
+        .iter()
+        .map(|t| (0..t.num_real as u32).collect())
+        .collect();
+    let distances =
+        read(vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &reals))?;
     let logits = read(out.mask_logits)?;
     let positions = read(out.positions)?;
     let normals = read(out.normals)?;

@@ -50,6 +50,7 @@ pub fn vae_ship() -> VaeTrainConfig {
         // Pad each mesh to its length bucket, not to 512: 2.4x the meshes per second.
         length_buckets: true,
         num_layers_vertex: 0,
+        pair_head: 0,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 8;
@@ -87,6 +88,7 @@ pub fn vae_tiny() -> VaeTrainConfig {
         tau: 0.6,
         length_buckets: false,
         num_layers_vertex: 0,
+        pair_head: 0,
     };
     let mut cfg = VaeTrainConfig::new(model);
     cfg.batch_size = 4;

@@ -13,7 +13,7 @@ use crate::Mesh;
 use crate::data::dataset::Split;
 use crate::data::shards::{ShardsError, load_split};
 use crate::device::{BackendKind, machine_description};
-use crate::model::{MeshVae, TensorMap, WeightsError, load_module};
+use crate::model::{MeshVae, TensorMap, WeightsError, load_module, widen_edge_embeddings};
 use crate::pipeline::shipped::{
     DitManifest, Provenance, ShippedError, VaeManifest, is_encoder_side, load_dit, load_vae,
     load_vae_dir, read_shipped, sha256_hex, write_weights,
@@ -22,6 +22,10 @@ use crate::train::dit::{DitTrainConfig, LatentExample, encode_latents, train_dit
 use crate::train::run::Trained;
 use crate::train::vae::{VaeTrainConfig, latent_statistics, train_vae_from};
 use crate::train::{TrainError, TrainObserver, data_version};
+
+/// Added edge-embedding channels start at this fraction of the trained ones' spread
+/// ([`widen_edge_embeddings`]): small enough to leave the trained distances almost unchanged.
+const WIDENED_EDGE_SCALE: f32 = 0.1;
 
 /// Why a run could not start or finish.
 #[derive(Debug, thiserror::Error)]
@@ -166,6 +170,17 @@ impl VaeRun {
                     // same shapes, or with vertex blocks added, keeps the trained decoder.
                     if !config.model.continues_decoder_of(&manifest.model) {
                         map.tensors.retain(|name, _| is_encoder_side(name));
+                    } else if config.model.edge_dim > manifest.model.edge_dim {
+                        widen_edge_embeddings(
+                            &mut map,
+                            manifest.model.edge_dim,
+                            config.model.edge_dim,
+                            WIDENED_EDGE_SCALE,
+                            config.seed,
+                        )
+                        .map_err(|e| {
+                            RunError::BadInput(format!("--init {}: {e}", dir.display()))
+                        })?;
                     }
                 } else if manifest.model != config.model {
                     return Err(RunError::BadInput(format!(

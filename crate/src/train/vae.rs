@@ -221,6 +221,8 @@ pub struct VaeBatch {
     /// `[B, N, N]`: the adjacency loss's weight of each real pair i < j that is not an edge
     /// ([`NonEdgeWeights`]), 0 elsewhere.
     pub non_edges: Tensor<3>,
+    /// The real vertex slots of each mesh (the first ones).
+    pub real_slots: Vec<Vec<u32>>,
 }
 
 /// The weight of a non-edge pair in the adjacency loss: `weight`, or `near_weight` when its two
@@ -295,6 +297,10 @@ pub fn make_batch(tokens: &[VertexTokens], non_edge: NonEdgeWeights, device: &De
         normals: t3(nrm, 3),
         edges: t3(edges, n),
         non_edges: t3(non_edges, n),
+        real_slots: tokens
+            .iter()
+            .map(|t| (0..t.num_real as u32).collect())
+            .collect(),
     }
 }
 
@@ -305,6 +311,9 @@ pub struct VaeLosses {
     pub position: Tensor<1>,
     pub normal: Tensor<1>,
     pub adjacency: Tensor<1>,
+    /// The adjacency loss again on the pair head's refined distances
+    /// ([`MeshVae::edge_distances`]); `None` without a pair head.
+    pub pair_adjacency: Option<Tensor<1>>,
     pub kl: Tensor<1>,
 }
 
@@ -414,21 +423,35 @@ pub fn vae_losses_timed(
     laps.lap("loss: mask, position, normal");
 
     let tau = cfg.model.tau as f64;
-    let d = spacetime_distances(out.edge_embeddings);
-    let pos = per_mesh(softplus(d.clone().neg() + tau, 1.0) * batch.edges.clone());
-    let neg = per_mesh(softplus(d - tau, 1.0) * batch.non_edges.clone());
     let num_edges = per_mesh(batch.edges.clone()).clamp_min(1.0);
-    let adjacency = ((pos + neg) / num_edges).mean();
+    let adjacency_of = |d: Tensor<3>| {
+        let pos = per_mesh(softplus(d.clone().neg() + tau, 1.0) * batch.edges.clone());
+        let neg = per_mesh(softplus(d - tau, 1.0) * batch.non_edges.clone());
+        ((pos + neg) / num_edges.clone()).mean()
+    };
+    let adjacency = adjacency_of(spacetime_distances(out.edge_embeddings.clone()));
+    // The spacetime distances keep their own loss, so the candidates they pick stay the
+    // plausible pairs; the pair head is trained on the refined ones.
+    let pair_adjacency = vae.decoder.pair_head.is_some().then(|| {
+        adjacency_of(vae.edge_distances(
+            out.edge_embeddings.clone(),
+            out.features.clone(),
+            &batch.real_slots,
+        ))
+    });
     laps.lap("adjacency: pairwise distances and loss");
 
     let kl = ((posterior.mean.square() + posterior.logvar.clone().exp() - 1.0 - posterior.logvar)
         * 0.5)
         .mean();
-    let total = mask.clone()
+    let mut total = mask.clone()
         + position.clone() * cfg.position_weight
         + normal.clone() * cfg.normal_weight
         + adjacency.clone()
         + kl.clone() * cfg.kl_weight;
+    if let Some(pair) = &pair_adjacency {
+        total = total + pair.clone();
+    }
     laps.lap("loss: KL and total");
     VaeLosses {
         total,
@@ -436,6 +459,7 @@ pub fn vae_losses_timed(
         position,
         normal,
         adjacency,
+        pair_adjacency,
         kl,
     }
 }
@@ -694,7 +718,8 @@ pub fn validate(
         batches += 1.0;
         let posterior = vae.encode(batch.features, &mut Trace::default());
         let out = vae.decode(posterior.mean, &mut Trace::default());
-        let d = spacetime_distances(out.edge_embeddings)
+        let d = vae
+            .edge_distances(out.edge_embeddings, out.features, &batch.real_slots)
             .try_into_data()
             .ok()?
             .convert::<f32>()
@@ -857,13 +882,16 @@ impl Task for VaeTask<'_> {
             &mut Laps::off(),
         );
         let loss = scalar(losses.total);
-        let terms = vec![
+        let mut terms = vec![
             ("mask", scalar(losses.mask)),
             ("position", scalar(losses.position)),
             ("normal", scalar(losses.normal)),
             ("adjacency", scalar(losses.adjacency)),
             ("kl", scalar(losses.kl)),
         ];
+        if let Some(pair) = losses.pair_adjacency {
+            terms.push(("pair_adjacency", scalar(pair)));
+        }
         let summary = format!(
             "loss {loss:.4} (adj {:.4}, pos {:.2e})",
             terms[3].1, terms[1].1

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# A pair head (issue 14, stop 43): the shipped VAE continued decoder-only with the shipped
+# stage-2 recipe at a lower peak learning rate (1e-4, 7,000 steps), as it is (a_control) or with
+# a pair head of hidden width 64 that rescores each vertex's 16 highest-scoring partners
+# (b_pair64, `VaeConfig::pair_head`). Both at once on this 2-core CPU, one thread each, each
+# with the same wall-clock budget (BUDGET_S, default 3000 s):
+#   bash bench/vae_pair_head/run.sh RUNS
+# then `python3 bench/vae_edge_dim/plot.py RUNS bench/vae_pair_head/pair_head.png`.
+set -euo pipefail
+HERE="$(cd "$(dirname "${BASH_SOURCE[0]}")" && pwd)"
+RUNS="${1:?usage: run.sh RUNS [ARM ...]}"; shift
+ARMS=("$@"); [[ ${#ARMS[@]} -gt 0 ]] || ARMS=(a_control b_pair64)
+CONFIGS="$HERE" BUDGET_S="${BUDGET_S:-3000}" bash "$HERE/../vae_near_negatives/run.sh" "$RUNS" "${ARMS[@]}"
