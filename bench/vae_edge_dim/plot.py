@@ -2,18 +2,23 @@
 or 128 edge-embedding channels, the arms at once with the same wall-clock budget. Draws
 validation edge F1 at the best tau of the grid, position and normal MSE against wall minutes
 into edge_dim.png and prints each arm's validations at every 1,000 steps.
-`python3 bench/vae_edge_dim/plot.py [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
-ARM/metrics.jsonl (default: the logs kept here, validation lines and every 10th step)."""
+`python3 bench/vae_edge_dim/plot.py [--steps] [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
+ARM/metrics.jsonl (default: the logs kept here, validation lines and every 10th step);
+--steps draws against steps instead of wall minutes (bench/vae_pair_head: its third arm started
+later, beside the other two)."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DIR = sys.argv[1] if len(sys.argv) > 1 else HERE
-PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, 'edge_dim.png')
+STEPS = '--steps' in sys.argv
+ARGS = [a for a in sys.argv[1:] if a != '--steps']
+DIR = ARGS[0] if len(ARGS) > 0 else HERE
+PNG = ARGS[1] if len(ARGS) > 1 else os.path.join(HERE, 'edge_dim.png')
 LABELS = {'a_edge32': '32 channels (control)', 'b_edge64': '64 channels',
           'a_control': 'as shipped (control)', 'b_pair64': 'pair head, hidden 64',
+          'c_pair64_context': 'pair head, hidden 64, with the pair context',
           'c_edge128': '128 channels'}
 
 
@@ -41,7 +46,7 @@ print('|---|---:|---:|---|---|---:|---:|')
 for arm in sorted(paths):
     val = load(paths[arm])
     label = LABELS.get(arm, arm)
-    t = [r['elapsed_s'] / 60 for r in val]
+    t = [r['step'] if STEPS else r['elapsed_s'] / 60 for r in val]
     for ax, key in zip(axes, ['edge_f1_best_tau', 'val_position', 'val_normal']):
         ax.plot(t, [r[key] for r in val], marker='.', label=label)
     for r in val:
@@ -51,6 +56,7 @@ for arm in sorted(paths):
                   f"({r['best_tau']:g}) | {r['val_position']:.5f} | {r['val_normal']:.5f} |")
 for ax, title in zip(axes, ['validation edge F1 at the best tau of the grid (pooled, 64 meshes)',
                             'validation position MSE (model frame)', 'validation normal MSE']):
-    ax.set_title(title, fontsize=10); ax.set_xlabel('wall minutes (three arms at once, 2 cores)')
+    ax.set_title(title, fontsize=10)
+    ax.set_xlabel('steps' if STEPS else 'wall minutes (the arms at once, 2 cores)')
     ax.grid(alpha=.3); ax.legend(fontsize=8)
 fig.tight_layout(); fig.savefig(PNG, dpi=110)

@@ -181,6 +181,48 @@ fn seeds_reproduce_and_batches_match_single_runs() {
     assert_ne!(different[0].mesh.positions, single[0].mesh.positions);
 }
 
+/// A pair head ([`VaeConfig::pair_head`]) takes generation through refined pair distances
+/// (`DeviceEdges::PairHead`, extraction from a distance matrix) instead of the embeddings; a
+/// silent one (output layer zero) must give exactly the mesh the decoder alone gives.
+#[test]
+fn a_silent_pair_head_generates_the_mesh_of_the_decoder_alone() {
+    use meshflow::model::{load_module_keeping, module_tensors};
+    let m = models();
+    let mut map = module_tensors(&m.vae);
+    map.tensors.retain(|name, _| !name.contains("pair_head"));
+    let plain_cfg = VaeConfig {
+        pair_head: 0,
+        ..m.vae_cfg.clone()
+    };
+    let head_cfg = VaeConfig {
+        pair_head: 8,
+        ..m.vae_cfg.clone()
+    };
+    let plain = load_module(MeshVae::new(&plain_cfg, &m.device), &map, &|_| false).unwrap();
+    let silent = load_module_keeping(
+        seeded_init(MeshVae::new(&head_cfg, &m.device), 1),
+        &map,
+        &|_| false,
+        &|name| name.contains("pair_head"),
+    )
+    .unwrap();
+    assert!(silent.decoder.pair_head.is_some());
+    let generate = |vae: &MeshVae, cfg: &VaeConfig| {
+        Generator::new(vae, cfg, &m.mean, &m.std, &m.dit, &m.dit_cfg, &m.device)
+            .generate(
+                &[sphere_points(1.0, Vec3::ZERO)],
+                &options(3),
+                &mut |_, _| true,
+            )
+            .unwrap()
+            .remove(0)
+    };
+    let (a, b) = (generate(&plain, &plain_cfg), generate(&silent, &head_cfg));
+    assert!(!a.mesh.faces.is_empty());
+    assert_eq!(a.mesh, b.mesh);
+    assert_eq!(b.topology.non_manifold_edges, 0);
+}
+
 #[test]
 fn a_dit_that_reads_points_generates_reproducibly_and_batch_independently() {
     let m = models_reading(32);

@@ -17,8 +17,8 @@ pub mod vae;
 pub mod weights;
 
 pub use vae::{
-    Decoded, MeshVae, PAIR_CANDIDATES, Posterior, Trace, VaeConfig, pair_candidates,
-    spacetime_distances, widen_edge_embeddings,
+    Decoded, MeshVae, PAIR_CANDIDATES, PAIR_CONTEXT, Posterior, Trace, VaeConfig, pair_candidates,
+    pair_context, spacetime_distances, widen_edge_embeddings,
 };
 pub use weights::{
     TensorMap, WeightsError, load_module, load_module_keeping, module_tensors, seeded_init,

@@ -173,9 +173,8 @@ impl VaeConfig {
             + heads;
         let distances = 2.0 * n * n * e;
         // The pair head on each vertex's candidates (none when pair_head is 0).
-        let hp = self.pair_head as f64;
-        let pairs =
-            n * PAIR_CANDIDATES as f64 * (linear(1.0, 2.0 * wd + 1.0, hp) + linear(1.0, hp, 1.0));
+        let (hp, input) = (self.pair_head as f64, 2.0 * wd + 1.0 + PAIR_CONTEXT as f64);
+        let pairs = n * PAIR_CANDIDATES as f64 * (linear(1.0, input, hp) + linear(1.0, hp, 1.0));
         encoder + decoder + distances + pairs
     }
 
@@ -303,7 +302,8 @@ pub struct Decoder {
     pub verts_head: Head,
     pub verts_normal_head: Head,
     pub adjacency_head: Head,
-    /// [`VaeConfig::pair_head`]: `[h_i + h_j | h_i * h_j | d_ij]` to a correction of d_ij.
+    /// [`VaeConfig::pair_head`]: `[h_i + h_j | h_i * h_j | d_ij | context]` to a correction of
+    /// d_ij ([`pair_context`]).
     pub pair_head: Option<Head>,
 }
 
@@ -397,7 +397,7 @@ impl MeshVae {
             verts_normal_head: Head::new(wd, 3, device),
             adjacency_head: Head::new(wd, cfg.edge_dim, device),
             pair_head: (cfg.pair_head > 0)
-                .then(|| Head::with_hidden(2 * wd + 1, cfg.pair_head, 1, device)),
+                .then(|| Head::with_hidden(2 * wd + 1 + PAIR_CONTEXT, cfg.pair_head, 1, device)),
         };
         Self {
             encoder,
@@ -448,25 +448,41 @@ impl MeshVae {
         if self.decoder.pair_head.is_none() {
             return distances;
         }
-        let n = distances.dims()[1];
         let host = distances
             .clone()
             .into_data()
             .convert::<f32>()
             .try_into_vec::<f32>()
             .expect("f32 distances");
-        let pairs = pair_candidates(&host, n, real);
-        self.refine_distances(distances, features, &pairs)
+        self.refine_at_candidates(distances, &host, features, real)
+    }
+
+    /// [`Self::refine_distances`] at the candidates that `host` (the same `distances` read
+    /// back) gives among the `real` slots: the part of [`Self::edge_distances`] after the
+    /// readback, for callers that read back asynchronously.
+    pub fn refine_at_candidates(
+        &self,
+        distances: Tensor<3>,
+        host: &[f32],
+        features: Tensor<3>,
+        real: &[Vec<u32>],
+    ) -> Tensor<3> {
+        let n = distances.dims()[1];
+        let pairs = pair_candidates(host, n, real);
+        let context = pair_context(host, n, &pairs);
+        self.refine_distances(distances, features, &pairs, &context)
     }
 
     /// Spacetime distances `distances` (`[B, N, N]`, from [`spacetime_distances`]) with the
-    /// pair head's correction added at `pairs` (from [`pair_candidates`]); unchanged without a
-    /// pair head. `features` are the decoder's ([`Decoded::features`]).
+    /// pair head's correction added at `pairs` (from [`pair_candidates`], with their
+    /// [`pair_context`]); unchanged without a pair head. `features` are the decoder's
+    /// ([`Decoded::features`]).
     pub fn refine_distances(
         &self,
         distances: Tensor<3>,
         features: Tensor<3>,
         pairs: &[[u32; 3]],
+        context: &[[f32; 2]],
     ) -> Tensor<3> {
         let Some(head) = &self.decoder.pair_head else {
             return distances;
@@ -491,7 +507,14 @@ impl MeshVae {
         let h_j = rows.select(0, index(&|&[k, _, j]| k as usize * n + j as usize));
         let flat = distances.clone().reshape([b * n * n]);
         let d = flat.clone().select(0, at.clone()).reshape([pairs.len(), 1]);
-        let input = Tensor::cat(vec![h_i.clone() + h_j.clone(), h_i * h_j, d], 1);
+        let context = Tensor::<2>::from_data(
+            TensorData::new(
+                context.iter().flatten().copied().collect::<Vec<f32>>(),
+                [pairs.len(), PAIR_CONTEXT],
+            ),
+            &device,
+        );
+        let input = Tensor::cat(vec![h_i.clone() + h_j.clone(), h_i * h_j, d, context], 1);
         let correction = head.forward(input.unsqueeze_dim(0)).reshape([pairs.len()]);
         let added = Tensor::<1>::zeros([b * n * n], &device).select_assign(
             0,
@@ -575,6 +598,75 @@ pub fn pair_candidates(distances: &[f32], n: usize, real: &[Vec<u32>]) -> Vec<[u
     pairs.sort_unstable();
     pairs.dedup();
     pairs
+}
+
+/// What a pair head reads about a candidate's neighbourhood besides the two vertices' features
+/// ([`pair_context`]).
+pub const PAIR_CONTEXT: usize = 2;
+
+/// The range [`pair_context`] clamps to: well past the thresholds the decoders here are
+/// extracted at (-3 to 1).
+pub const PAIR_CONTEXT_RANGE: f32 = 10.0;
+
+/// Where each candidate pair `(b, i, j)` of [`pair_candidates`] stands among the candidates of
+/// both its vertices, from the distances `distances` (`[B, n, n]`, upper triangle read), as
+/// `[triangle, rival]`:
+/// - triangle: the best `min(d_ik, d_kj)` over the vertices `k` that are candidates of both
+///   `i` and `j`: how strongly `(i, j)` would close a triangle;
+/// - rival: the best `min(d_ik, d_kj, d_il, d_lj, d_kl)` over two such vertices `k, l`: the
+///   strongest quad `i-k-j-l` whose other diagonal `(k, l)` competes with `(i, j)`. A
+///   quad's artist-drawn diagonal and the one left out look alike to a score of the pair
+///   alone (BENCHMARKS.md, "Why edge F1 stays near 0.72").
+///
+/// Both are clamped to `[-PAIR_CONTEXT_RANGE, PAIR_CONTEXT_RANGE]`; the lower end also
+/// stands for "no such vertex".
+pub fn pair_context(distances: &[f32], n: usize, pairs: &[[u32; 3]]) -> Vec<[f32; 2]> {
+    // Each vertex's candidate partners, sorted.
+    let mut partners: std::collections::HashMap<(u32, u32), Vec<u32>> =
+        std::collections::HashMap::new();
+    for &[b, i, j] in pairs {
+        partners.entry((b, i)).or_default().push(j);
+        partners.entry((b, j)).or_default().push(i);
+    }
+    for list in partners.values_mut() {
+        list.sort_unstable();
+    }
+    let floor = -PAIR_CONTEXT_RANGE;
+    let mut common: Vec<(u32, f32)> = Vec::new();
+    pairs
+        .iter()
+        .map(|&[b, i, j]| {
+            let plane = &distances[b as usize * n * n..(b as usize + 1) * n * n];
+            let d = |a: u32, c: u32| plane[a.min(c) as usize * n + a.max(c) as usize];
+            let (pi, pj) = (&partners[&(b, i)], &partners[&(b, j)]);
+            // The shared partners k, each with its weaker side min(d_ik, d_kj).
+            common.clear();
+            let (mut x, mut y) = (0, 0);
+            while x < pi.len() && y < pj.len() {
+                match pi[x].cmp(&pj[y]) {
+                    std::cmp::Ordering::Less => x += 1,
+                    std::cmp::Ordering::Greater => y += 1,
+                    std::cmp::Ordering::Equal => {
+                        let k = pi[x];
+                        common.push((k, d(i, k).min(d(k, j))));
+                        x += 1;
+                        y += 1;
+                    }
+                }
+            }
+            let triangle = common.iter().map(|c| c.1).fold(floor, f32::max);
+            let mut rival = floor;
+            for (a, &(k, side_k)) in common.iter().enumerate() {
+                for &(l, side_l) in &common[a + 1..] {
+                    rival = rival.max(side_k.min(side_l).min(d(k, l)));
+                }
+            }
+            [
+                triangle.clamp(floor, PAIR_CONTEXT_RANGE),
+                rival.clamp(floor, PAIR_CONTEXT_RANGE),
+            ]
+        })
+        .collect()
 }
 
 /// The adjacency head's output layer, reference names (`[out, in]` weight and `[out]` bias).
@@ -747,6 +839,33 @@ mod tests {
         }
         // Mesh 1 has 3 real vertices (not the first slots): its 3 pairs, no more.
         assert_eq!(pairs.iter().filter(|p| p[0] == 1).count(), 3);
+    }
+
+    /// A quad 0-1-2-3 with both diagonals scored: each diagonal's rival is the other one (as
+    /// weak as the quad's weakest side allows), its triangle the quad's sides; a lone pair has
+    /// neither.
+    #[test]
+    fn pair_context_sees_the_quads_other_diagonal() {
+        let n = 6;
+        let mut d = vec![-5f32; n * n];
+        let mut set = |i: usize, j: usize, v: f32| d[i * n + j] = v;
+        for (i, j) in [(0, 1), (1, 2), (2, 3), (0, 3)] {
+            set(i, j, 2.0);
+        }
+        set(0, 2, 1.0);
+        set(1, 3, 0.5);
+        set(4, 5, 3.0);
+        let pairs: Vec<[u32; 3]> = [(0, 1), (0, 2), (0, 3), (1, 2), (1, 3), (2, 3), (4, 5)]
+            .iter()
+            .map(|&(i, j)| [0, i, j])
+            .collect();
+        let context = pair_context(&d, n, &pairs);
+        let of = |i: u32, j: u32| context[pairs.iter().position(|p| p[1..] == [i, j]).unwrap()];
+        assert_eq!(of(0, 2), [2.0, 0.5]);
+        assert_eq!(of(1, 3), [2.0, 1.0]);
+        // A side: triangles through the diagonals (1.0 via vertex 2, 0.5 via vertex 3).
+        assert_eq!(of(0, 1), [1.0, 0.5]);
+        assert_eq!(of(4, 5), [-PAIR_CONTEXT_RANGE, -PAIR_CONTEXT_RANGE]);
     }
 
     /// A new pair head changes nothing until trained; once its output layer is not zero it

@@ -280,12 +280,21 @@ pub struct DecodedDevice {
 }
 
 /// The edges as they leave the device.
+// One value per generated batch, moved once: boxing the larger variant would buy nothing.
+#[allow(clippy::large_enum_variant)]
 pub enum DeviceEdges {
     /// `[B, N, E]` edge embeddings, thresholded on the host (the CPU backend, or when the
     /// non-manifold filter needs the margins).
     Embeddings(Tensor<3>),
     /// `[B, N, ceil(N / 32)]` u32 edge bits from the GPU threshold.
     Bits(Tensor<3, Int>),
+    /// A VAE with a pair head ([`crate::model::VaeConfig::pair_head`]): `[B, N, E]` edge
+    /// embeddings and `[B, N, W]` vertex features, refined into pair distances once the mask
+    /// is on the host ([`kept_slots`], [`MeshVae::refine_at_candidates`]).
+    PairHead {
+        embeddings: Tensor<3>,
+        features: Tensor<3>,
+    },
 }
 
 /// The decoder's outputs read back to the host, row-major `[B, N, C]` each.
@@ -300,6 +309,21 @@ pub struct DecodedHost {
 pub enum HostEdges {
     Embeddings(Vec<f32>),
     Bits(Vec<u32>),
+    /// `[B, N, N]` pair distances refined by the pair head.
+    Distances(Vec<f32>),
+}
+
+/// The slots of each of the `rows` rows of `[rows, n]` mask logits that the mask keeps (logit
+/// > 0): the vertices a pair head picks its candidates among.
+pub fn kept_slots(mask_logits: &[f32], n: usize) -> Vec<Vec<u32>> {
+    mask_logits
+        .chunks_exact(n.max(1))
+        .map(|row| {
+            (0..row.len() as u32)
+                .filter(|&i| row[i as usize] > 0.0)
+                .collect()
+        })
+        .collect()
 }
 
 impl Generator<'_> {
@@ -402,14 +426,25 @@ impl Generator<'_> {
 
         let started = Instant::now();
         let out = self.decode(latents, &opts.extract);
+        let mask_logits = read_vec(out.mask_logits)?;
+        let edges = match out.edges {
+            DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read_vec(t)?),
+            DeviceEdges::Bits(t) => HostEdges::Bits(read_bits(t.try_into_data())?),
+            DeviceEdges::PairHead {
+                embeddings,
+                features,
+            } => {
+                let kept = kept_slots(&mask_logits, prepared.slots);
+                HostEdges::Distances(read_vec(
+                    self.vae.edge_distances(embeddings, features, &kept),
+                )?)
+            }
+        };
         let host = DecodedHost {
-            mask_logits: read_vec(out.mask_logits)?,
+            mask_logits,
             positions: read_vec(out.positions)?,
             normals: read_vec(out.normals)?,
-            edges: match out.edges {
-                DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read_vec(t)?),
-                DeviceEdges::Bits(t) => HostEdges::Bits(read_bits(t.try_into_data())?),
-            },
+            edges,
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         self.extract(prepared, &host, opts)
@@ -510,7 +545,8 @@ impl Generator<'_> {
     /// Stage 3: de-normalises sampled latents with the VAE manifest's mean/std and decodes.
     /// On a wgpu device the spacetime threshold (at the VAE's tau) runs there too, unless
     /// `extract` ranks faces by the embeddings' margins (the default manifold method does),
-    /// which it does on the host.
+    /// which it does on the host, or the VAE has a pair head, whose candidates are chosen on
+    /// the host.
     pub fn decode(&self, latents: Tensor<3>, extract: &ExtractOptions) -> DecodedDevice {
         let d = self.vae_config.latent_dim;
         let channel = |v: &[f32]| {
@@ -518,7 +554,12 @@ impl Generator<'_> {
         };
         let latents = latents * channel(self.latent_std) + channel(self.latent_mean);
         let out = self.vae.decode(latents, &mut Trace::default());
-        let edges = if extract.uses_margins() {
+        let edges = if self.vae.decoder.pair_head.is_some() {
+            DeviceEdges::PairHead {
+                embeddings: out.edge_embeddings,
+                features: out.features,
+            }
+        } else if extract.uses_margins() {
             DeviceEdges::Embeddings(out.edge_embeddings)
         } else {
             edges_on_device(
@@ -564,6 +605,9 @@ impl Generator<'_> {
                 HostEdges::Bits(bits) => DecodedEdges::Bits {
                     words: &bits[rows.start * words..rows.end * words],
                     words_per_row: words,
+                },
+                HostEdges::Distances(values) => DecodedEdges::Distances {
+                    values: &values[rows.start * n..rows.end * n],
                 },
             };
             let decoded = DecodedVertices {

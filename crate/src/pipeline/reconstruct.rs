@@ -204,6 +204,18 @@ pub fn reconstruct_batch(
     let distances =
         read(vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &reals))?;
     let logits = read(out.mask_logits)?;
+    // A pair head rescores candidates among the vertices the mask keeps, as in generation;
+    // the edge scores above pick them among the ground truth's real vertices.
+    let kept_distances = if vae.decoder.pair_head.is_some() {
+        let kept = crate::pipeline::generate::kept_slots(&logits, n);
+        Some(read(vae.edge_distances(
+            out.edge_embeddings.clone(),
+            out.features.clone(),
+            &kept,
+        ))?)
+    } else {
+        None
+    };
     let positions = read(out.positions)?;
     let normals = read(out.normals)?;
     let embeddings = read(out.edge_embeddings)?;
@@ -244,9 +256,14 @@ pub fn reconstruct_batch(
             mask_logits: mask,
             positions: &pos,
             normals: &nrm,
-            edges: DecodedEdges::Embeddings {
-                values: &embeddings[rows.start * e..rows.end * e],
-                dim: e,
+            edges: match &kept_distances {
+                Some(values) => DecodedEdges::Distances {
+                    values: &values[rows.start * n..rows.end * n],
+                },
+                None => DecodedEdges::Embeddings {
+                    values: &embeddings[rows.start * e..rows.end * e],
+                    dim: e,
+                },
             },
         };
         let (mesh, report) = extract_from_decoded(&decoded, &extract)?;

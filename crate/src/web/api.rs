@@ -25,9 +25,10 @@ use web_time::Instant;
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::sampler::step;
 use crate::model::schedule::step_times;
+use crate::model::spacetime_distances;
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    keep_best, read_bits,
+    keep_best, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(feature = "wgpu")]
@@ -237,16 +238,32 @@ impl MeshFlow {
 
         let started = Instant::now();
         let out = generator.decode(x, &opts.extract);
+        let mask_logits = read(out.mask_logits).await?;
+        let edges = match out.edges {
+            DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read(t).await?),
+            DeviceEdges::Bits(t) => {
+                HostEdges::Bits(read_bits(t.into_data_async().await).map_err(js_error)?)
+            }
+            DeviceEdges::PairHead {
+                embeddings,
+                features,
+            } => {
+                // MeshVae::edge_distances with asynchronous readbacks.
+                let distances = spacetime_distances(embeddings);
+                let host = read(distances.clone()).await?;
+                let kept = kept_slots(&mask_logits, prepared.slots);
+                let refined = self
+                    .models
+                    .vae
+                    .refine_at_candidates(distances, &host, features, &kept);
+                HostEdges::Distances(read(refined).await?)
+            }
+        };
         let host = DecodedHost {
-            mask_logits: read(out.mask_logits).await?,
+            mask_logits,
             positions: read(out.positions).await?,
             normals: read(out.normals).await?,
-            edges: match out.edges {
-                DeviceEdges::Embeddings(t) => HostEdges::Embeddings(read(t).await?),
-                DeviceEdges::Bits(t) => {
-                    HostEdges::Bits(read_bits(t.into_data_async().await).map_err(js_error)?)
-                }
-            },
+            edges,
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         let out = generator
