@@ -9,7 +9,12 @@
 #    weighted 80, written with the extraction threshold chosen on the validation split
 #    (tau -2.5). The encoder, and so the latent space the shipped DiT was trained on, stays
 #    bit for bit the first stage's.
-# RUN/vertex/vae.* are the files to ship. Both stages resume from their checkpoints when
+# 3. RUN/pair: `meshflow train vae --config weights/vae.pair.train.json --init RUN/vertex`
+#    (7,000 steps of the decoder alone, lr 1e-4, about 35 minutes): a pair head added (starting
+#    silent) that rescores each vertex's 16 best partners from both vertices' features and the
+#    pair's context (the best triangle it closes, the quad diagonal it competes with). The
+#    encoder is still the first stage's.
+# RUN/pair/vae.* are the files to ship. Every stage resumes from its checkpoints when
 # interrupted; each logs to RUN/<stage>/train.log and RUN/<stage>/metrics.jsonl.
 set -euo pipefail
 
@@ -20,5 +25,8 @@ source "$(dirname "${BASH_SOURCE[0]}")/train_stages.sh"
 if [[ ! -f "$RUN/base/vae.manifest.json" ]]; then
     stage "$RUN/base" train vae --config weights/vae.train.json
 fi
-stage "$RUN/vertex" train vae --config weights/vae.vertex.train.json --init "$RUN/base"
-echo "[train_vae.sh] ship: cp $RUN/vertex/vae.{safetensors,json,manifest.json} weights/"
+if [[ ! -f "$RUN/vertex/vae.manifest.json" ]]; then
+    stage "$RUN/vertex" train vae --config weights/vae.vertex.train.json --init "$RUN/base"
+fi
+stage "$RUN/pair" train vae --config weights/vae.pair.train.json --init "$RUN/vertex"
+echo "[train_vae.sh] ship: cp $RUN/pair/vae.{safetensors,json,manifest.json} weights/"

@@ -183,17 +183,19 @@ mod tests {
         serde_json::from_value(manifest["training"].clone()).unwrap()
     }
 
-    /// The shipped VAE ends with a last stage (`scripts/train_vae.sh`: the vertex-block
-    /// decoder) and the DiT is one stage (`scripts/train_dit.sh`): their files are the
-    /// training the shipped manifests record, so the scripts reproduce what ships.
+    /// The shipped VAE ends with a last stage (`scripts/train_vae.sh`: the pair-head decoder)
+    /// and the DiT is one stage (`scripts/train_dit.sh`): their files are the training the
+    /// shipped manifests record, so the scripts reproduce what ships.
     #[test]
     fn the_shipped_weights_were_trained_last_by_the_last_stage_configs() {
+        let pair = vae_config(shipped("vae.pair.train.json").to_str().unwrap()).unwrap();
+        assert_eq!(pair, recorded::<VaeTrainConfig>("vae.manifest.json"));
+        // Each VAE stage continues the one before: the same encoder, and a decoder that keeps
+        // the previous stage's trained one.
         let vertex = vae_config(shipped("vae.vertex.train.json").to_str().unwrap()).unwrap();
-        assert_eq!(vertex, recorded::<VaeTrainConfig>("vae.manifest.json"));
-        // The second and last VAE stage continues the first: the same encoder, and a decoder
-        // that keeps the first stage's trained one.
         let base = vae_config(shipped("vae.train.json").to_str().unwrap()).unwrap();
-        assert!(vertex.decoder_only && !base.decoder_only);
+        assert!(pair.decoder_only && vertex.decoder_only && !base.decoder_only);
+        assert!(pair.model.continues_decoder_of(&vertex.model));
         assert!(vertex.model.continues_decoder_of(&base.model));
         let dit = dit_config(&shipped("dit.train.json")).unwrap();
         assert_eq!(dit, recorded::<DitTrainConfig>("dit.manifest.json"));
