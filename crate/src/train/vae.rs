@@ -9,7 +9,9 @@
 //!   which is `L_pos + lambda_neg (|notE| / |E|) L_neg` with both means written out; pairs are
 //!   real i < j. Optionally, non-edges between close vertices weigh more
 //!   ([`VaeTrainConfig::near_negative_weight`]);
-//! - KL: `0.5 mean(mu^2 + exp(logvar) - 1 - logvar)` over latent channels, weight 1e-3.
+//! - KL: `0.5 mean(mu^2 + exp(logvar) - 1 - logvar)` over latent channels, weight 1e-3;
+//! - with a pair head ([`VaeConfig::pair_head`], not in the paper): the adjacency loss again,
+//!   on the refined distances ([`MeshVae::edge_distances`]).
 
 use std::path::Path;
 use std::time::Instant;
