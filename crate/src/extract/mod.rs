@@ -818,6 +818,14 @@ pub fn edges_from_bits(
     Ok(edges)
 }
 
+/// The vertices the mask keeps: those whose logit is > 0, ascending. Extraction keeps these,
+/// and a pair head picks its candidates among them.
+pub fn kept_vertices(mask_logits: &[f32]) -> Vec<u32> {
+    (0..mask_logits.len() as u32)
+        .filter(|&i| mask_logits[i as usize] > 0.0)
+        .collect()
+}
+
 /// Extraction on decoder outputs: mask, spacetime threshold (on the CPU, or already done on
 /// the GPU), then [`extract_mesh`]. The manifold method and Algorithm 1's optional filter rank
 /// faces by edge margin when the embeddings are at hand, and geometrically from edge bits.
@@ -848,7 +856,10 @@ pub fn extract_from_decoded(
             return Err(ExtractError::NonFinite { what, row });
         }
     }
-    let kept: Vec<usize> = (0..n).filter(|&i| decoded.mask_logits[i] > 0.0).collect();
+    let kept: Vec<usize> = kept_vertices(decoded.mask_logits)
+        .into_iter()
+        .map(|i| i as usize)
+        .collect();
     let positions: Vec<Vec3> = kept.iter().map(|&i| decoded.positions[i]).collect();
     let normals: Vec<Vec3> = kept.iter().map(|&i| decoded.normals[i]).collect();
     // The manifold method takes candidate edges a little below tau (its faces are ranked

@@ -318,11 +318,7 @@ pub enum HostEdges {
 pub fn kept_slots(mask_logits: &[f32], n: usize) -> Vec<Vec<u32>> {
     mask_logits
         .chunks_exact(n.max(1))
-        .map(|row| {
-            (0..row.len() as u32)
-                .filter(|&i| row[i as usize] > 0.0)
-                .collect()
-        })
+        .map(crate::extract::kept_vertices)
         .collect()
 }
 
