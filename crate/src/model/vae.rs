@@ -886,9 +886,9 @@ mod tests {
                 .contains("\"pair_head\":16")
         );
         let vae = seeded_init(MeshVae::new(&cfg, &device), 5);
-        let z = Tensor::<3>::random(
+        let z = crate::model::sampler::normal_noise(
+            &mut crate::rng::Rng::new(11),
             [2, cfg.num_latents, cfg.latent_dim],
-            burn::tensor::Distribution::Normal(0.0, 1.0),
             &device,
         );
         let out = vae.decode(z, &mut Trace::default());
@@ -940,9 +940,9 @@ mod tests {
         };
         let vae = seeded_init(MeshVae::new(&base, &device), 3);
         let map: TensorMap = module_tensors(&vae);
-        let z = Tensor::<3>::random(
+        let z = crate::model::sampler::normal_noise(
+            &mut crate::rng::Rng::new(11),
             [2, base.num_latents, base.latent_dim],
-            burn::tensor::Distribution::Normal(0.0, 1.0),
             &device,
         );
         let distances = |m: &MeshVae| {
@@ -961,21 +961,21 @@ mod tests {
             )
         };
         let (d0, p0) = distances(&vae);
-        for (scale, tolerance) in [(0.0, 0.0), (0.1, 0.1)] {
+        // With the scale used in training the distances move by about 1% of their typical
+        // size on average and by under 10% at worst (over latent seeds); the bounds leave 2x.
+        for (scale, mean_tolerance, worst_tolerance) in [(0.0, 0.0, 0.0), (0.1, 0.02, 0.2)] {
             let mut widened = map.clone();
             widen_edge_embeddings(&mut widened, 32, 48, scale, 7).unwrap();
             let grown = load_module(MeshVae::new(&wide, &device), &widened, &|_| false).unwrap();
             let (d, p) = distances(&grown);
             assert_eq!(p, p0);
             let typical = d0.iter().map(|x| x.abs()).sum::<f32>() / d0.len() as f32;
-            let worst = d
-                .iter()
-                .zip(&d0)
-                .map(|(a, b)| (a - b).abs())
-                .fold(0.0, f32::max);
+            let change: Vec<f32> = d.iter().zip(&d0).map(|(a, b)| (a - b).abs()).collect();
+            let mean = change.iter().sum::<f32>() / change.len() as f32;
+            let worst = change.iter().copied().fold(0.0, f32::max);
             assert!(
-                worst <= tolerance * typical,
-                "scale {scale}: {worst} against {typical}"
+                mean <= mean_tolerance * typical && worst <= worst_tolerance * typical,
+                "scale {scale}: mean {mean}, worst {worst} against {typical}"
             );
         }
         let mut odd = map.clone();
