@@ -724,3 +724,86 @@ fn validation_scores_edges_at_the_threshold_extraction_uses() {
     let none = at(Some(1e30));
     assert_eq!((none.edge_recall, none.edge_f1), (0.0, 0.0));
 }
+
+/// Training scores a pair head's refined distances from its candidates alone (`vae_losses`):
+/// the same loss, and the same gradients, as the adjacency loss over the whole refined matrix
+/// (`MeshVae::edge_distances`), which it replaces.
+#[test]
+fn the_pair_loss_from_the_candidates_is_the_loss_of_the_refined_matrix() {
+    use burn::optim::GradientsParams;
+    use burn::tensor::Tensor;
+    use burn::tensor::activation::softplus;
+    use meshflow::model::{module_tensors, seeded_init};
+    use meshflow::train::vae::vae_losses;
+    let device = Device::flex().autodiff();
+    let mut cfg = small_config(1);
+    cfg.model.pair_head = 16;
+    // A head with a non-zero output layer, so that every candidate moves by its own amount.
+    let mut map = module_tensors(&seeded_init(MeshVae::new(&cfg.model, &device), 7));
+    for name in ["decoder.pair_head.2.weight", "decoder.pair_head.2.bias"] {
+        let values = &mut map.tensors.get_mut(name).expect(name).1;
+        for (k, v) in values.iter_mut().enumerate() {
+            *v = 0.5 * (k as f32 * 1.3 + 0.4).sin();
+        }
+    }
+    let vae = load_module(MeshVae::new(&cfg.model, &device), &map, &|_| false).unwrap();
+    let data = meshes();
+    let largest = data.iter().map(|m| m.positions.len()).max().unwrap();
+    let tokens: Vec<_> = data
+        .iter()
+        .map(|m| build_tokens(m, &cfg.model.tokens_for(largest), 0).unwrap())
+        .collect();
+    let batch = make_batch(
+        &tokens,
+        NonEdgeWeights::uniform(cfg.lambda_neg as f32),
+        &device,
+    );
+    let [b, _, _] = batch.edges.dims();
+    let latents = cfg.model.slots_for(largest) / (cfg.model.num_vertices / cfg.model.num_latents);
+    let zeros = Tensor::<3>::zeros([b, latents, cfg.model.latent_dim], &device);
+
+    let fast = vae_losses(&vae, &batch, zeros, &cfg)
+        .pair_adjacency
+        .expect("a pair head's loss");
+    let posterior = vae.encode(batch.features.clone(), &mut Default::default());
+    let out = vae.decode(posterior.mean, &mut Default::default());
+    let refined = vae.edge_distances(out.edge_embeddings, out.features, &batch.real_slots);
+    let per_mesh = |t: Tensor<3>| t.sum_dim(2).sum_dim(1).reshape([b]);
+    let tau = cfg.model.tau as f64;
+    let whole = ((per_mesh(softplus(refined.clone().neg() + tau, 1.0) * batch.edges.clone())
+        + per_mesh(softplus(refined - tau, 1.0) * batch.non_edges.clone()))
+        / per_mesh(batch.edges.clone()).clamp_min(1.0))
+    .mean();
+
+    let value = |t: &Tensor<1>| {
+        t.clone()
+            .into_data()
+            .convert::<f32>()
+            .try_into_vec::<f32>()
+            .unwrap()[0]
+    };
+    let (a, w) = (value(&fast), value(&whole));
+    assert!((a - w).abs() <= 1e-5 * w.abs(), "{a} against {w}");
+    let grads = |loss: Tensor<1>| GradientsParams::from_grads(loss.backward(), &vae);
+    let (fast, whole) = (grads(fast), grads(whole));
+    let ids = [
+        vae.decoder.adjacency_head.output.weight.id,
+        vae.decoder.pair_head.as_ref().unwrap().hidden.weight.id,
+    ];
+    for id in ids {
+        let flat = |g: &GradientsParams| {
+            g.get::<2>(id)
+                .expect("a gradient")
+                .into_data()
+                .convert::<f32>()
+                .try_into_vec::<f32>()
+                .unwrap()
+        };
+        let (f, w) = (flat(&fast), flat(&whole));
+        let scale = w.iter().fold(0f32, |m, v| m.max(v.abs()));
+        assert!(scale > 0.0);
+        for (x, y) in f.iter().zip(&w) {
+            assert!((x - y).abs() <= 1e-4 * scale, "{x} against {y}");
+        }
+    }
+}

@@ -17,8 +17,9 @@ pub mod vae;
 pub mod weights;
 
 pub use vae::{
-    Decoded, MeshVae, PAIR_CANDIDATES, PAIR_CONTEXT, Posterior, Trace, VaeConfig, pair_candidates,
-    pair_context, spacetime_distances, widen_edge_embeddings,
+    Decoded, MeshVae, PAIR_CANDIDATES, PAIR_CONTEXT, PairCorrections, Posterior, Trace, VaeConfig,
+    add_pair_corrections, pair_candidates, pair_context, spacetime_distances,
+    widen_edge_embeddings,
 };
 pub use weights::{
     TensorMap, WeightsError, load_module, load_module_keeping, module_tensors, seeded_init,

@@ -63,7 +63,7 @@ pub struct VaeConfig {
     /// Not in the paper: there a pair's score is the spacetime distance of two embeddings
     /// each decoded on its own. The pair head rescores each vertex's
     /// [`PAIR_CANDIDATES`] highest-scoring partners from both vertices' decoder features
-    /// ([`MeshVae::refine_distances`]), adding a learned correction to their distance. Its
+    /// ([`MeshVae::pair_corrections`]), adding a learned correction to their distance. Its
     /// output layer starts at zero, so a trained decoder that gains one scores exactly as
     /// before until it is trained.
     #[serde(default, skip_serializing_if = "is_zero")]
@@ -437,7 +437,9 @@ impl MeshVae {
     /// The score of every pair of decoded vertices, `[B, N, N]`: the spacetime distances of
     /// the edge embeddings, refined by the pair head (if any) from the vertex `features` at
     /// the candidates among each mesh's real vertex slots `real[b]` ([`pair_candidates`],
-    /// chosen on the host). Both tensors as [`MeshVae::decode`] gives them.
+    /// chosen on the host after a synchronous readback). Both tensors as [`MeshVae::decode`]
+    /// gives them. Generation refines on the host instead ([`MeshVae::pair_corrections`],
+    /// [`add_pair_corrections`]), which spares the device a second `[B, N, N]` pass.
     pub fn edge_distances(
         &self,
         edge_embeddings: Tensor<3>,
@@ -445,52 +447,58 @@ impl MeshVae {
         real: &[Vec<u32>],
     ) -> Tensor<3> {
         let distances = spacetime_distances(edge_embeddings);
-        if self.decoder.pair_head.is_none() {
-            return distances;
+        let [b, n, _] = distances.dims();
+        match self.read_pair_corrections(distances.clone(), features, real) {
+            None => distances,
+            Some(pairs) => {
+                let added = Tensor::<1>::zeros([b * n * n], &pairs.index.device()).select_assign(
+                    0,
+                    pairs.index,
+                    pairs.corrections,
+                    burn::tensor::IndexingUpdateOp::Add,
+                );
+                distances + added.reshape([b, n, n])
+            }
         }
+    }
+
+    /// [`Self::pair_corrections`], reading `distances` back synchronously for the candidates.
+    pub fn read_pair_corrections(
+        &self,
+        distances: Tensor<3>,
+        features: Tensor<3>,
+        real: &[Vec<u32>],
+    ) -> Option<PairCorrections> {
+        self.decoder.pair_head.as_ref()?;
         let host = distances
             .clone()
             .into_data()
             .convert::<f32>()
             .try_into_vec::<f32>()
             .expect("f32 distances");
-        self.refine_at_candidates(distances, &host, features, real)
+        self.pair_corrections(distances, &host, features, real)
     }
 
-    /// [`Self::refine_distances`] at the candidates that `host` (the same `distances` read
-    /// back) gives among the `real` slots: the part of [`Self::edge_distances`] after the
-    /// readback, for callers that read back asynchronously.
-    pub fn refine_at_candidates(
+    /// The pair head's corrections to the spacetime distances `distances` (`[B, N, N]`, from
+    /// [`spacetime_distances`]; `host` is the same read back) at the candidates
+    /// ([`pair_candidates`], with their [`pair_context`]) among the `real` slots of each mesh,
+    /// from the decoder's `features` ([`Decoded::features`]). `None` without a pair head or
+    /// without candidates.
+    pub fn pair_corrections(
         &self,
         distances: Tensor<3>,
         host: &[f32],
         features: Tensor<3>,
         real: &[Vec<u32>],
-    ) -> Tensor<3> {
+    ) -> Option<PairCorrections> {
+        let head = self.decoder.pair_head.as_ref()?;
         let n = distances.dims()[1];
         let pairs = pair_candidates(host, n, real);
-        let context = pair_context(host, n, &pairs);
-        self.refine_distances(distances, features, &pairs, &context)
-    }
-
-    /// Spacetime distances `distances` (`[B, N, N]`, from [`spacetime_distances`]) with the
-    /// pair head's correction added at `pairs` (from [`pair_candidates`], with their
-    /// [`pair_context`]); unchanged without a pair head. `features` are the decoder's
-    /// ([`Decoded::features`]).
-    pub fn refine_distances(
-        &self,
-        distances: Tensor<3>,
-        features: Tensor<3>,
-        pairs: &[[u32; 3]],
-        context: &[[f32; 2]],
-    ) -> Tensor<3> {
-        let Some(head) = &self.decoder.pair_head else {
-            return distances;
-        };
         if pairs.is_empty() {
-            return distances;
+            return None;
         }
-        let [b, n, w] = features.dims();
+        let context = pair_context(host, n, &pairs);
+        let [b, _, w] = features.dims();
         let device = features.device();
         let index = |f: &dyn Fn(&[u32; 3]) -> usize| {
             let values: Vec<i64> = pairs.iter().map(|p| f(p) as i64).collect();
@@ -505,8 +513,7 @@ impl MeshVae {
             .clone()
             .select(0, index(&|&[k, i, _]| k as usize * n + i as usize));
         let h_j = rows.select(0, index(&|&[k, _, j]| k as usize * n + j as usize));
-        let flat = distances.clone().reshape([b * n * n]);
-        let d = flat.clone().select(0, at.clone()).reshape([pairs.len(), 1]);
+        let d = distances.reshape([b * n * n]).select(0, at.clone());
         let context = Tensor::<2>::from_data(
             TensorData::new(
                 context.iter().flatten().copied().collect::<Vec<f32>>(),
@@ -514,15 +521,22 @@ impl MeshVae {
             ),
             &device,
         );
-        let input = Tensor::cat(vec![h_i.clone() + h_j.clone(), h_i * h_j, d, context], 1);
-        let correction = head.forward(input.unsqueeze_dim(0)).reshape([pairs.len()]);
-        let added = Tensor::<1>::zeros([b * n * n], &device).select_assign(
-            0,
-            at,
-            correction,
-            burn::tensor::IndexingUpdateOp::Add,
+        let input = Tensor::cat(
+            vec![
+                h_i.clone() + h_j.clone(),
+                h_i * h_j,
+                d.clone().reshape([pairs.len(), 1]),
+                context,
+            ],
+            1,
         );
-        distances + added.reshape([b, n, n])
+        let corrections = head.forward(input.unsqueeze_dim(0)).reshape([pairs.len()]);
+        Some(PairCorrections {
+            pairs,
+            index: at,
+            distances: d,
+            corrections,
+        })
     }
 
     /// Latents `[B, N/r, D]` to per-vertex outputs.
@@ -562,6 +576,32 @@ impl MeshVae {
 /// Ground-truth meshes here have about six neighbours a vertex; the confusions the pair head
 /// is for (a quad's other diagonal, two hops, the other side of a thin part) rank just below.
 pub const PAIR_CANDIDATES: usize = 16;
+
+/// What a pair head adds at a batch's candidate pairs ([`MeshVae::pair_corrections`]).
+pub struct PairCorrections {
+    /// The candidates, `(b, i, j)` with `i < j`, sorted ([`pair_candidates`]).
+    pub pairs: Vec<[u32; 3]>,
+    /// `[P]`: each candidate's flat index into `[B, N, N]`, `(b N + i) N + j`.
+    pub index: Tensor<1, burn::tensor::Int>,
+    /// `[P]`: the spacetime distance of each candidate, as the head read it.
+    pub distances: Tensor<1>,
+    /// `[P]`: the head's correction to add to it.
+    pub corrections: Tensor<1>,
+}
+
+/// Adds a pair head's `corrections` (read back from [`PairCorrections::corrections`]) to
+/// `distances` (`[B, n, n]` row-major, read back) at their `pairs`: on the host, what
+/// [`MeshVae::edge_distances`] does on the device, to the same bits.
+pub fn add_pair_corrections(
+    distances: &mut [f32],
+    n: usize,
+    pairs: &[[u32; 3]],
+    corrections: &[f32],
+) {
+    for (&[b, i, j], &c) in pairs.iter().zip(corrections) {
+        distances[(b as usize * n + i as usize) * n + j as usize] += c;
+    }
+}
 
 /// The pairs a pair head rescores in a batch of spacetime distances (`distances`, `[B, n, n]`
 /// row-major): for mesh `b` and each of its real vertex slots `i` (`real[b]`, slots below
@@ -621,14 +661,14 @@ pub const PAIR_CONTEXT_RANGE: f32 = 10.0;
 /// Both are clamped to `[-PAIR_CONTEXT_RANGE, PAIR_CONTEXT_RANGE]`; the lower end also
 /// stands for "no such vertex".
 pub fn pair_context(distances: &[f32], n: usize, pairs: &[[u32; 3]]) -> Vec<[f32; 2]> {
-    // Each vertex's candidate partners, sorted.
-    let mut partners: std::collections::HashMap<(u32, u32), Vec<u32>> =
-        std::collections::HashMap::new();
+    // Each vertex's candidate partners, sorted, at `b n + i`.
+    let slot = |b: u32, i: u32| b as usize * n + i as usize;
+    let mut partners: Vec<Vec<u32>> = vec![Vec::new(); distances.len() / (n * n).max(1) * n];
     for &[b, i, j] in pairs {
-        partners.entry((b, i)).or_default().push(j);
-        partners.entry((b, j)).or_default().push(i);
+        partners[slot(b, i)].push(j);
+        partners[slot(b, j)].push(i);
     }
-    for list in partners.values_mut() {
+    for list in &mut partners {
         list.sort_unstable();
     }
     let floor = -PAIR_CONTEXT_RANGE;
@@ -638,7 +678,7 @@ pub fn pair_context(distances: &[f32], n: usize, pairs: &[[u32; 3]]) -> Vec<[f32
         .map(|&[b, i, j]| {
             let plane = &distances[b as usize * n * n..(b as usize + 1) * n * n];
             let d = |a: u32, c: u32| plane[a.min(c) as usize * n + a.max(c) as usize];
-            let (pi, pj) = (&partners[&(b, i)], &partners[&(b, j)]);
+            let (pi, pj) = (&partners[slot(b, i)], &partners[slot(b, j)]);
             // The shared partners k, each with its weaker side min(d_ik, d_kj).
             common.clear();
             let (mut x, mut y) = (0, 0);

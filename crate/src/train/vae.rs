@@ -19,7 +19,7 @@ use std::time::Instant;
 use burn::module::Module;
 use burn::optim::GradientsParams;
 use burn::tensor::activation::softplus;
-use burn::tensor::{Device, Tensor, TensorData};
+use burn::tensor::{Device, Int, Tensor, TensorData};
 use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
@@ -431,15 +431,38 @@ pub fn vae_losses_timed(
         let neg = per_mesh(softplus(d - tau, 1.0) * batch.non_edges.clone());
         ((pos + neg) / num_edges.clone()).mean()
     };
-    let adjacency = adjacency_of(spacetime_distances(out.edge_embeddings.clone()));
+    let distances = spacetime_distances(out.edge_embeddings.clone());
+    let adjacency = adjacency_of(distances.clone());
     // The spacetime distances keep their own loss, so the candidates they pick stay the
-    // plausible pairs; the pair head is trained on the refined ones.
+    // plausible pairs; the pair head is trained on the refined ones. The refined matrix
+    // differs from the plain one only at the candidates, so its loss is the plain one with
+    // their terms swapped: the same value and gradients as a second [B, N, N] pass, without it.
     let pair_adjacency = vae.decoder.pair_head.is_some().then(|| {
-        adjacency_of(vae.edge_distances(
-            out.edge_embeddings.clone(),
-            out.features.clone(),
-            &batch.real_slots,
-        ))
+        let Some(pairs) =
+            vae.read_pair_corrections(distances, out.features.clone(), &batch.real_slots)
+        else {
+            return adjacency.clone();
+        };
+        let [b, n, _] = batch.edges.dims();
+        let at = |t: &Tensor<3>| {
+            t.clone()
+                .reshape([b * n * n])
+                .select(0, pairs.index.clone())
+        };
+        let meshes: Vec<i64> = pairs.pairs.iter().map(|p| p[0] as i64).collect();
+        let per_edge = num_edges.clone().recip().select(
+            0,
+            Tensor::<1, Int>::from_data(
+                TensorData::new(meshes, [pairs.pairs.len()]),
+                &pairs.index.device(),
+            ),
+        );
+        let (plain, refined) = (pairs.distances.clone(), pairs.distances + pairs.corrections);
+        let swap = |d: Tensor<1>| {
+            softplus(d.clone().neg() + tau, 1.0) * at(&batch.edges)
+                + softplus(d - tau, 1.0) * at(&batch.non_edges)
+        };
+        adjacency.clone() + ((swap(refined) - swap(plain)) * per_edge).sum() / b as f64
     });
     laps.lap("adjacency: pairwise distances and loss");
 

@@ -25,7 +25,7 @@ use web_time::Instant;
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::sampler::step;
 use crate::model::schedule::step_times;
-use crate::model::spacetime_distances;
+use crate::model::{add_pair_corrections, spacetime_distances};
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
     keep_best, kept_slots, read_bits,
@@ -248,15 +248,19 @@ impl MeshFlow {
                 embeddings,
                 features,
             } => {
-                // MeshVae::edge_distances with asynchronous readbacks.
+                // MeshVae::edge_distances with asynchronous readbacks, refined on the host.
                 let distances = spacetime_distances(embeddings);
-                let host = read(distances.clone()).await?;
+                let mut host = read(distances.clone()).await?;
                 let kept = kept_slots(&mask_logits, prepared.slots);
-                let refined = self
+                if let Some(pairs) = self
                     .models
                     .vae
-                    .refine_at_candidates(distances, &host, features, &kept);
-                HostEdges::Distances(read(refined).await?)
+                    .pair_corrections(distances, &host, features, &kept)
+                {
+                    let corrections = read(pairs.corrections.unsqueeze()).await?;
+                    add_pair_corrections(&mut host, prepared.slots, &pairs.pairs, &corrections);
+                }
+                HostEdges::Distances(host)
             }
         };
         let host = DecodedHost {
