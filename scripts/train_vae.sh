@@ -2,15 +2,15 @@
 # Reproduce the shipped MeshVAE (weights/vae.*): `bash scripts/train_vae.sh RUN [DATA]`.
 #
 # 1. RUN/base: `meshflow train vae --config weights/vae.train.json` (10,000 steps of the whole
-#    VAE with 64-wide latents; about 50 minutes alone on the 2-core CPU);
+#    VAE with 64-wide latents; about 37 minutes alone on the 2-core CPU);
 # 2. RUN/vertex: `meshflow train vae --config weights/vae.vertex.train.json --init RUN/base`
-#    (16,000 steps of the decoder alone, about 72 minutes): one self-attention block over the
+#    (16,000 steps of the decoder alone, about 78 minutes): one self-attention block over the
 #    vertex tokens added (starting as the identity), near non-edges weighted 10, positions
 #    weighted 80, written with the extraction threshold chosen on the validation split
 #    (tau -2.5). The encoder, and so the latent space the shipped DiT was trained on, stays
 #    bit for bit the first stage's.
 # 3. RUN/pair: `meshflow train vae --config weights/vae.pair.train.json --init RUN/vertex`
-#    (7,000 steps of the decoder alone, lr 1e-4, about 35 minutes): a pair head added (starting
+#    (7,000 steps of the decoder alone, lr 3e-4, about 40 minutes): a pair head added (starting
 #    silent) that rescores each vertex's 16 best partners from both vertices' features and the
 #    pair's context (the best triangle it closes, the quad diagonal it competes with). The
 #    encoder is still the first stage's.

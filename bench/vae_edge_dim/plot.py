@@ -5,7 +5,7 @@ into edge_dim.png and prints each arm's validations at every 1,000 steps.
 `python3 bench/vae_edge_dim/plot.py [--steps] [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
 ARM/metrics.jsonl (default: the logs kept here, validation lines and every 10th step);
 --steps draws against steps instead of wall minutes (bench/vae_pair_head: its third arm started
-later, beside the other two)."""
+later, beside the other two; bench/vae_pair_lr: its arms against that third arm)."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
@@ -18,8 +18,9 @@ DIR = ARGS[0] if len(ARGS) > 0 else HERE
 PNG = ARGS[1] if len(ARGS) > 1 else os.path.join(HERE, 'edge_dim.png')
 LABELS = {'a_edge32': '32 channels (control)', 'b_edge64': '64 channels',
           'a_control': 'as shipped (control)', 'b_pair64': 'pair head, hidden 64',
-          'c_pair64_context': 'pair head, hidden 64, with the pair context',
-          'c_edge128': '128 channels'}
+          'c_pair64_context': 'pair head, hidden 64, with the pair context (lr 1e-4)',
+          'c_edge128': '128 channels',
+          'd_lr2e4': 'pair head with context, lr 2e-4', 'e_lr3e4': 'pair head with context, lr 3e-4'}
 
 
 def load(path):
@@ -35,12 +36,12 @@ paths = {os.path.basename(p)[:-len('.metrics.jsonl')]: p
          for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))}
 paths.update({os.path.basename(os.path.dirname(p)): p
               for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
-# The shipped VAE's last validation (its stage-2 run, bench/vae_latent64/).
+# The stage-2 VAE's last validation (bench/vae_latent64/): every arm here continues it.
 shipped = [json.loads(l) for l in open(os.path.join(HERE, '..', 'vae_latent64', 'position80', 'ld64_vertex.metrics.jsonl'))
            if 'val_loss' in l][-1]
 fig, axes = plt.subplots(1, 3, figsize=(17, 4.4))
 for ax, key in zip(axes, ['edge_f1_best_tau', 'val_position', 'val_normal']):
-    ax.axhline(shipped[key], color='grey', ls='--', lw=1, label=f'shipped ({shipped[key]:.4g})')
+    ax.axhline(shipped[key], color='grey', ls='--', lw=1, label=f'stage-2 VAE, where these runs start ({shipped[key]:.4g})')
 print('| arm | step | wall min | edge P / R / F1 at tau 0.6 | best-tau F1 (tau) | position MSE | normal MSE |')
 print('|---|---:|---:|---|---|---:|---:|')
 for arm in sorted(paths):
