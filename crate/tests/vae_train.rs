@@ -733,7 +733,7 @@ fn the_pair_loss_from_the_candidates_is_the_loss_of_the_refined_matrix() {
     use burn::optim::GradientsParams;
     use burn::tensor::Tensor;
     use burn::tensor::activation::softplus;
-    use meshflow::model::{module_tensors, seeded_init};
+    use meshflow::model::{module_tensors, seeded_init, spacetime_distances};
     use meshflow::train::vae::vae_losses;
     let device = Device::flex().autodiff();
     let mut cfg = small_config(1);
@@ -767,7 +767,25 @@ fn the_pair_loss_from_the_candidates_is_the_loss_of_the_refined_matrix() {
         .expect("a pair head's loss");
     let posterior = vae.encode(batch.features.clone(), &mut Default::default());
     let out = vae.decode(posterior.mean, &mut Default::default());
-    let refined = vae.edge_distances(out.edge_embeddings, out.features, &batch.real_slots);
+    // The whole refined matrix on the device, as training scored it before.
+    let distances = spacetime_distances(out.edge_embeddings);
+    let host = distances
+        .clone()
+        .into_data()
+        .convert::<f32>()
+        .try_into_vec::<f32>()
+        .unwrap();
+    let pairs = vae
+        .pair_corrections(distances.clone(), &host, out.features, &batch.real_slots)
+        .expect("candidates");
+    let [_, n, _] = distances.dims();
+    let added = Tensor::<1>::zeros([b * n * n], &device).select_assign(
+        0,
+        pairs.index,
+        pairs.corrections,
+        burn::tensor::IndexingUpdateOp::Add,
+    );
+    let refined = distances + added.reshape([b, n, n]);
     let per_mesh = |t: Tensor<3>| t.sum_dim(2).sum_dim(1).reshape([b]);
     let tau = cfg.model.tau as f64;
     let whole = ((per_mesh(softplus(refined.clone().neg() + tau, 1.0) * batch.edges.clone())

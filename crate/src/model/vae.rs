@@ -434,35 +434,30 @@ impl MeshVae {
         Posterior { mean, logvar }
     }
 
-    /// The score of every pair of decoded vertices, `[B, N, N]`: the spacetime distances of
-    /// the edge embeddings, refined by the pair head (if any) from the vertex `features` at
-    /// the candidates among each mesh's real vertex slots `real[b]` ([`pair_candidates`],
-    /// chosen on the host after a synchronous readback). Both tensors as [`MeshVae::decode`]
-    /// gives them. Generation refines on the host instead ([`MeshVae::pair_corrections`],
-    /// [`add_pair_corrections`]), which spares the device a second `[B, N, N]` pass.
+    /// The score of every pair of decoded vertices, read back as `[B, N, N]` row-major: the
+    /// spacetime distances of the edge embeddings, refined by the pair head (if any) from the
+    /// vertex `features` at the candidates among each mesh's real vertex slots `real[b]`
+    /// ([`pair_candidates`]), the corrections added on the host ([`add_pair_corrections`]).
+    /// Both tensors as [`MeshVae::decode`] gives them. Reads back synchronously; the error is
+    /// the readback's message.
     pub fn edge_distances(
         &self,
         edge_embeddings: Tensor<3>,
         features: Tensor<3>,
         real: &[Vec<u32>],
-    ) -> Tensor<3> {
+    ) -> Result<Vec<f32>, String> {
         let distances = spacetime_distances(edge_embeddings);
-        let [b, n, _] = distances.dims();
-        match self.read_pair_corrections(distances.clone(), features, real) {
-            None => distances,
-            Some(pairs) => {
-                let added = Tensor::<1>::zeros([b * n * n], &pairs.index.device()).select_assign(
-                    0,
-                    pairs.index,
-                    pairs.corrections,
-                    burn::tensor::IndexingUpdateOp::Add,
-                );
-                distances + added.reshape([b, n, n])
-            }
+        let n = distances.dims()[1];
+        let mut host = read_f32(distances.clone())?;
+        if let Some(pairs) = self.pair_corrections(distances, &host, features, real) {
+            let corrections = read_f32(pairs.corrections)?;
+            add_pair_corrections(&mut host, n, &pairs.pairs, &corrections);
         }
+        Ok(host)
     }
 
-    /// [`Self::pair_corrections`], reading `distances` back synchronously for the candidates.
+    /// [`Self::pair_corrections`], reading `distances` back synchronously for the candidates
+    /// (training, where the corrections stay on the device for the loss).
     pub fn read_pair_corrections(
         &self,
         distances: Tensor<3>,
@@ -470,12 +465,7 @@ impl MeshVae {
         real: &[Vec<u32>],
     ) -> Option<PairCorrections> {
         self.decoder.pair_head.as_ref()?;
-        let host = distances
-            .clone()
-            .into_data()
-            .convert::<f32>()
-            .try_into_vec::<f32>()
-            .expect("f32 distances");
+        let host = read_f32(distances.clone()).expect("f32 distances");
         self.pair_corrections(distances, &host, features, real)
     }
 
@@ -572,6 +562,15 @@ impl MeshVae {
     }
 }
 
+/// A tensor read back as f32 values; the error is the readback's message.
+fn read_f32<const D: usize>(t: Tensor<D>) -> Result<Vec<f32>, String> {
+    t.try_into_data()
+        .map_err(|e| e.to_string())?
+        .convert::<f32>()
+        .try_into_vec::<f32>()
+        .map_err(|e| format!("{e:?}"))
+}
+
 /// How many partners of each real vertex the pair head rescores: its highest-scoring ones.
 /// Ground-truth meshes here have about six neighbours a vertex; the confusions the pair head
 /// is for (a quad's other diagonal, two hops, the other side of a thin part) rank just below.
@@ -590,8 +589,8 @@ pub struct PairCorrections {
 }
 
 /// Adds a pair head's `corrections` (read back from [`PairCorrections::corrections`]) to
-/// `distances` (`[B, n, n]` row-major, read back) at their `pairs`: on the host, what
-/// [`MeshVae::edge_distances`] does on the device, to the same bits.
+/// `distances` (`[B, n, n]` row-major, read back) at their `pairs`: the refined scores
+/// [`MeshVae::edge_distances`] gives, for callers that read back asynchronously.
 pub fn add_pair_corrections(
     distances: &mut [f32],
     n: usize,
@@ -938,8 +937,9 @@ mod tests {
         ];
         let values = |t: Tensor<3>| t.into_data().convert::<f32>().try_to_vec::<f32>().unwrap();
         let plain = values(spacetime_distances(out.edge_embeddings.clone()));
-        let silent =
-            values(vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &real));
+        let silent = vae
+            .edge_distances(out.edge_embeddings.clone(), out.features.clone(), &real)
+            .unwrap();
         assert_eq!(plain, silent);
 
         let mut map = module_tensors(&vae);
@@ -948,11 +948,9 @@ mod tests {
             .expect("the pair head's output bias")
             .1 = vec![1.5];
         let trained = load_module(MeshVae::new(&cfg, &device), &map, &|_| false).unwrap();
-        let refined = values(trained.edge_distances(
-            out.edge_embeddings.clone(),
-            out.features.clone(),
-            &real,
-        ));
+        let refined = trained
+            .edge_distances(out.edge_embeddings.clone(), out.features.clone(), &real)
+            .unwrap();
         let pairs = pair_candidates(&plain, cfg.num_vertices, &real);
         let n = cfg.num_vertices;
         for (at, (&a, &b)) in refined.iter().zip(&plain).enumerate() {

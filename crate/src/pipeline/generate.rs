@@ -35,7 +35,7 @@ use crate::model::condition::{context_points, inference_positions, vertex_condit
 use crate::model::dit::{Condition, Dit, DitConfig};
 use crate::model::sampler::{SampleError, Solver, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
-use crate::model::{MeshVae, Trace, VaeConfig, add_pair_corrections, spacetime_distances};
+use crate::model::{MeshVae, Trace, VaeConfig};
 use crate::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
@@ -430,15 +430,12 @@ impl Generator<'_> {
                 embeddings,
                 features,
             } => {
-                // MeshVae::edge_distances, with the corrections added on the host.
-                let distances = spacetime_distances(embeddings);
-                let mut host = read_vec(distances.clone())?;
                 let kept = kept_slots(&mask_logits, prepared.slots);
-                if let Some(pairs) = self.vae.pair_corrections(distances, &host, features, &kept) {
-                    let corrections = read_vec(pairs.corrections.unsqueeze())?;
-                    add_pair_corrections(&mut host, prepared.slots, &pairs.pairs, &corrections);
-                }
-                HostEdges::Distances(host)
+                HostEdges::Distances(
+                    self.vae
+                        .edge_distances(embeddings, features, &kept)
+                        .map_err(GenerateError::Readback)?,
+                )
             }
         };
         let host = DecodedHost {

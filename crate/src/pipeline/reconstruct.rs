@@ -201,18 +201,18 @@ pub fn reconstruct_batch(
         .iter()
         .map(|t| (0..t.num_real as u32).collect())
         .collect();
-    let distances =
-        read(vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &reals))?;
+    let distances = vae
+        .edge_distances(out.edge_embeddings.clone(), out.features.clone(), &reals)
+        .map_err(ReconstructError::Readback)?;
     let logits = read(out.mask_logits)?;
     // A pair head rescores candidates among the vertices the mask keeps, as in generation;
     // the edge scores above pick them among the ground truth's real vertices.
     let kept_distances = if vae.decoder.pair_head.is_some() {
         let kept = crate::pipeline::generate::kept_slots(&logits, n);
-        Some(read(vae.edge_distances(
-            out.edge_embeddings.clone(),
-            out.features.clone(),
-            &kept,
-        ))?)
+        Some(
+            vae.edge_distances(out.edge_embeddings.clone(), out.features.clone(), &kept)
+                .map_err(ReconstructError::Readback)?,
+        )
     } else {
         None
     };

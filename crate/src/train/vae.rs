@@ -745,10 +745,6 @@ pub fn validate(
         let out = vae.decode(posterior.mean, &mut Trace::default());
         let d = vae
             .edge_distances(out.edge_embeddings, out.features, &batch.real_slots)
-            .try_into_data()
-            .ok()?
-            .convert::<f32>()
-            .try_into_vec::<f32>()
             .ok()?;
         let logits = out
             .mask_logits
