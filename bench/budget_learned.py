@@ -20,19 +20,11 @@ predict the count). Needs numpy and scipy."""
 import json, os, sys, numpy as np
 from scipy.spatial import cKDTree
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from shards import meshes
+from shards import meshes, surface_points
 
 SHARDS = os.path.expanduser(sys.argv[1] if len(sys.argv) > 1 and not sys.argv[1].startswith('-') else '~/.cache/meshflow/data/shards')
 OUT = sys.argv[sys.argv.index('-o') + 1] if '-o' in sys.argv else None
 POINTS, MAX_V = 4096, 512
-
-def surface_points(v, f, rng):
-    tri = v[f]; area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
-    if area.sum() <= 0: return None
-    k = rng.choice(len(f), POINTS, p=area / area.sum())
-    r1, r2 = rng.random(POINTS), rng.random(POINTS); s = np.sqrt(r1)
-    w = np.column_stack([1 - s, s * (1 - r2), s * r2])
-    return np.einsum('ij,ijk->ik', w, tri[k])
 
 def descriptor(p, rng):
     lo, hi = p.min(0), p.max(0); q = (p - (lo + hi) / 2) / ((hi - lo).max() / 2)

@@ -40,3 +40,14 @@ def meshes(shards_dir, splits, max_vertices):
         t, i = cache[e['shard']], e['index']
         yield (e, t['positions'][t['vertex_offsets'][i]:t['vertex_offsets'][i + 1]],
                t['faces'][t['face_offsets'][i]:t['face_offsets'][i + 1]])
+
+
+def surface_points(v, f, rng, count=4096):
+    """`count` area-weighted samples of the surface of vertices `v` and faces `f` (float64 and
+    int64 arrays), as `meshflow eval generate` conditions on; None for a surface of no area."""
+    tri = v[f]; area = 0.5 * np.linalg.norm(np.cross(tri[:, 1] - tri[:, 0], tri[:, 2] - tri[:, 0]), axis=1)
+    if area.sum() <= 0: return None
+    k = rng.choice(len(f), count, p=area / area.sum())
+    r1, r2 = rng.random(count), rng.random(count); s = np.sqrt(r1)
+    w = np.column_stack([1 - s, s * (1 - r2), s * r2])
+    return np.einsum('ij,ijk->ik', w, tri[k])
