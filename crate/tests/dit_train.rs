@@ -2,6 +2,8 @@
 //! run resumed from a checkpoint ends with exactly the weights of an uninterrupted one.
 #![cfg(feature = "train")]
 
+mod common;
+
 use burn::tensor::Device;
 use meshflow::model::dit::DitConfig;
 use meshflow::rng::Rng;
@@ -326,4 +328,31 @@ fn a_dit_that_reads_points_learns_what_only_the_points_say() {
     assert_eq!(sighted_tensors, blind_tensors + 4 + 2 * 8);
     // 1.19 -> 0.91 when this was written (sighted flow matching can reach 0: x_0 is known).
     assert!(sighted < 0.85 * blind, "{blind} -> {sighted}");
+}
+
+/// A batch's gradient summed from sub-batches run at once on the CPU's threads
+/// (`data_parallel` 3: 2 + 1 + 1 of 4 examples, with input points) trains as the whole batch
+/// does: the same loss and gradient norm before clipping at every step, up to float rounding,
+/// and two split runs agree bit for bit.
+#[test]
+fn sub_batches_on_threads_train_as_the_whole_batch() {
+    let device = Device::flex();
+    let data = two_sided_examples();
+    let run = |parts: usize, tag: &str| {
+        let mut cfg = config(8);
+        cfg.model.point_tokens = 16;
+        cfg.data_parallel = parts;
+        let dir = temp_dir(&format!("split-{tag}-{parts}"));
+        let mut quiet = Quiet {
+            stop_at: None,
+            last: 0,
+        };
+        let weights = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet)
+            .unwrap()
+            .weights;
+        let steps = common::loss_and_grad_norm(&dir);
+        let _ = std::fs::remove_dir_all(&dir);
+        (weights, steps)
+    };
+    common::assert_split_trains_as_whole(3, 8, run);
 }

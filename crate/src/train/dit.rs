@@ -13,6 +13,7 @@
 //! and with a region cut away, so the model learns from what it will be given.
 
 use std::collections::BTreeMap;
+use std::ops::Range;
 use std::path::Path;
 
 use burn::optim::GradientsParams;
@@ -22,6 +23,7 @@ use serde::{Deserialize, Serialize};
 
 use super::adamw::{AdamW, AdamWState};
 use super::run::{Schedule, StepOutcome, Task, Trained, run_training};
+use super::sub_batches::{gradients_in_parallel, sub_batches};
 use super::{TrainError, TrainObserver, scalar};
 use crate::Mesh;
 use crate::data::degrade::{Degradation, degrade};
@@ -194,6 +196,13 @@ pub struct DitTrainConfig {
     /// Conditioning augmentation; none when absent.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub augment: Option<PositionAugment>,
+    /// Each batch's gradient summed from this many sub-batches run at once on the CPU's
+    /// threads ([`super::sub_batches`]; 1, the default: the whole batch in one pass).
+    #[serde(
+        default = "super::sub_batches::one_pass",
+        skip_serializing_if = "super::sub_batches::is_one_pass"
+    )]
+    pub data_parallel: usize,
 }
 
 impl DitTrainConfig {
@@ -213,6 +222,7 @@ impl DitTrainConfig {
             checkpoint_every: 500,
             eval_every: 500,
             augment: None,
+            data_parallel: 1,
         }
     }
 }
@@ -244,6 +254,7 @@ impl DitTrainConfig {
         super::check_schedule(
             &[
                 ("batch_size", self.batch_size),
+                ("data_parallel", self.data_parallel),
                 ("steps", self.steps),
                 ("checkpoint_every", self.checkpoint_every),
                 ("eval_every", self.eval_every),
@@ -263,17 +274,32 @@ struct FlowBatch {
     condition: Condition,
 }
 
+/// A batch's random draws for flow matching, from which [`FlowDraws::batch`] builds the inputs
+/// of the whole batch or of any contiguous part of it ([`super::sub_batches`]).
+struct FlowDraws {
+    /// `b x tokens` RoPE positions.
+    positions: Vec<[f32; 3]>,
+    /// One row of input points per example (empty for a DiT without point tokens).
+    points: Vec<Vec<Vec3>>,
+    tokens: usize,
+    /// `[b, tokens, latent_dim]`: the clean latents and the noise.
+    x0: Tensor<3>,
+    eps: Tensor<3>,
+    t: Vec<f32>,
+    cond: Vec<f32>,
+}
+
 /// The tokens' RoPE positions are each example's own, or drawn by `augment` (first, from
 /// `rng`); a DiT that reads input points gets a fresh subset of each example's surface
 /// samples (next, from `rng`; nothing is drawn for one that does not, so such runs reproduce
 /// those from before points existed).
-fn flow_batch(
+fn flow_draws(
     examples: &[&LatentExample],
     augment: Option<&PositionAugment>,
     cfg: &DitConfig,
     rng: &mut Rng,
     device: &Device,
-) -> FlowBatch {
+) -> FlowDraws {
     let positions: Vec<[f32; 3]> = examples
         .iter()
         .flat_map(|e| match augment {
@@ -299,19 +325,52 @@ fn flow_batch(
     let t: Vec<f32> = (0..b)
         .map(|_| (1.0 / (1.0 + (-rng.normal()).exp())) as f32)
         .collect();
-    let tt = Tensor::<1>::from_data(TensorData::new(t.clone(), [b]), device).reshape([b, 1, 1]);
-    let x_t = x0.clone() * (tt.clone().neg() + 1.0) + eps.clone() * tt;
     let cond: Vec<f32> = examples
         .iter()
         .map(|e| vertex_condition(e.vertex_count, cfg.num_latents))
         .collect();
-    FlowBatch {
-        x_t,
-        target: eps - x0,
+    FlowDraws {
+        positions,
+        points,
+        tokens: l,
+        x0,
+        eps,
         t,
-        cond: Tensor::from_data(TensorData::new(cond, [b, 1]), device),
-        condition: Condition::new(cfg, &positions, &points, b, device),
+        cond,
     }
+}
+
+impl FlowDraws {
+    /// The flow-matching inputs and targets of examples `rows`.
+    fn batch(&self, rows: Range<usize>, cfg: &DitConfig, device: &Device) -> FlowBatch {
+        let b = rows.len();
+        let cut = |x: &Tensor<3>| x.clone().narrow(0, rows.start, b);
+        let (x0, eps) = (cut(&self.x0), cut(&self.eps));
+        let t = self.t[rows.clone()].to_vec();
+        let tt = Tensor::<1>::from_data(TensorData::new(t.clone(), [b]), device).reshape([b, 1, 1]);
+        let x_t = x0.clone() * (tt.clone().neg() + 1.0) + eps.clone() * tt;
+        let cond = self.cond[rows.clone()].to_vec();
+        let positions = &self.positions[rows.start * self.tokens..rows.end * self.tokens];
+        let points = self.points.get(rows).unwrap_or(&[]);
+        FlowBatch {
+            x_t,
+            target: eps - x0,
+            t,
+            cond: Tensor::from_data(TensorData::new(cond, [b, 1]), device),
+            condition: Condition::new(cfg, positions, points, b, device),
+        }
+    }
+}
+
+/// The whole batch's flow-matching inputs ([`flow_draws`], [`FlowDraws::batch`]).
+fn flow_batch(
+    examples: &[&LatentExample],
+    augment: Option<&PositionAugment>,
+    cfg: &DitConfig,
+    rng: &mut Rng,
+    device: &Device,
+) -> FlowBatch {
+    flow_draws(examples, augment, cfg, rng, device).batch(0..examples.len(), cfg, device)
 }
 
 /// Mean squared error of the predicted velocity.
@@ -396,12 +455,33 @@ impl Task for DitTask<'_> {
         let batch: Vec<&LatentExample> = std::iter::once(first)
             .chain((1..self.cfg.batch_size).map(|_| same[rng.below(same.len())]))
             .collect();
-        let augment = self.cfg.augment.as_ref();
-        let fb = flow_batch(&batch, augment, &self.cfg.model, rng, &self.ad_device);
-        let loss = flow_loss(&dit, &fb);
-        let grads = GradientsParams::from_grads(loss.backward(), &dit);
+        let (augment, model) = (self.cfg.augment.as_ref(), &self.cfg.model);
+        let draws = flow_draws(&batch, augment, model, rng, &self.ad_device);
+        let parts = sub_batches(batch.len(), self.cfg.data_parallel);
+        let (loss, grads) = if parts.len() == 1 {
+            let loss = flow_loss(&dit, &draws.batch(0..batch.len(), model, &self.ad_device));
+            let grads = GradientsParams::from_grads(loss.clone().backward(), &dit);
+            (scalar(loss), grads)
+        } else {
+            // The loss is a mean over equal-sized examples, so it splits by their share.
+            let examples = batch.len() as f64;
+            let work: Vec<_> = parts
+                .into_iter()
+                .map(|r| {
+                    (
+                        r.len() as f64 / examples,
+                        draws.batch(r, model, &self.ad_device),
+                    )
+                })
+                .collect();
+            let (losses, grads) = gradients_in_parallel(&dit, work, |copy, fb| {
+                let loss = flow_loss(copy, &fb);
+                (loss.clone(), loss)
+            });
+            let loss = losses.into_iter().map(|(share, l)| share * scalar(l)).sum();
+            (loss, grads)
+        };
         let (dit, grad_norm) = optim.step(optim_state, dit, grads, lr);
-        let loss = scalar(loss);
         let outcome = StepOutcome {
             loss,
             grad_norm,

@@ -1,7 +1,7 @@
 //! Training (feature `train`: Burn's autodiff): one loop for both models ([`run`]) with the
 //! model-specific steps in [`vae`] and [`dit`], and what the loop is made of: the optimiser,
-//! checkpoint files, the learning-rate schedule, the device-side EMA and the observer
-//! interface.
+//! checkpoint files, the learning-rate schedule, the device-side EMA, the observer interface,
+//! and a batch's gradient from sub-batches run at once ([`sub_batches`]).
 
 pub mod adamw;
 pub mod dit;
@@ -9,6 +9,7 @@ pub mod presets;
 pub mod profile;
 pub mod run;
 pub mod ship;
+pub mod sub_batches;
 pub mod vae;
 
 use std::fs;

@@ -142,3 +142,44 @@ pub fn assert_within_tolerance(diffs: &[meshflow::model::golden::TensorDiff]) ->
     }
     worst
 }
+
+/// The loss and the gradient norm before clipping of each step of a training run, from its
+/// `metrics.jsonl` (validation lines have neither).
+pub fn loss_and_grad_norm(run_dir: &std::path::Path) -> Vec<(f64, f64)> {
+    std::fs::read_to_string(run_dir.join("metrics.jsonl"))
+        .unwrap()
+        .lines()
+        .filter_map(|l| {
+            let v: serde_json::Value = serde_json::from_str(l).ok()?;
+            Some((v["loss"].as_f64()?, v["grad_norm"].as_f64()?))
+        })
+        .collect()
+}
+
+/// Asserts that a training run cut into `parts` sub-batches trains as the whole batch does.
+/// `run(parts, tag)` trains (in a folder named by `tag` and `parts`) and returns its weights
+/// and each step's loss and gradient norm ([`loss_and_grad_norm`]). The whole batch's run and
+/// a split one take `steps` steps with the same loss and gradient norm at each, within 1e-4
+/// relative (float rounding: the same training in another order); two split runs have the
+/// same weights bit for bit.
+pub fn assert_split_trains_as_whole<W: PartialEq>(
+    parts: usize,
+    steps: usize,
+    run: impl Fn(usize, &str) -> (W, Vec<(f64, f64)>),
+) {
+    let (_, whole) = run(1, "a");
+    let (split, split_steps) = run(parts, "a");
+    let (again, _) = run(parts, "b");
+    assert!(split == again, "a split run is reproducible");
+    assert_eq!((whole.len(), split_steps.len()), (steps, steps));
+    let close = |x: f64, y: f64| (x - y).abs() <= 1e-4 * x.abs();
+    for (step, (x, y)) in whole.iter().zip(&split_steps).enumerate() {
+        assert!(close(x.0, y.0), "step {step}: loss {} vs {}", x.0, y.0);
+        assert!(
+            close(x.1, y.1),
+            "step {step}: gradient norm {} vs {}",
+            x.1,
+            y.1
+        );
+    }
+}
