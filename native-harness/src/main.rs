@@ -3,6 +3,7 @@
 //! Every command reads any supported mesh or point-cloud format and reports errors as one
 //! readable line with a non-zero exit status (2 for bad input, 1 for anything else).
 
+mod allocator;
 mod bench;
 mod commands;
 mod data;
@@ -209,6 +210,8 @@ impl std::fmt::Display for BadInput {
 impl std::error::Error for BadInput {}
 
 fn main() -> ExitCode {
+    // Whether glibc took it changes only the speed.
+    allocator::keep_freed_memory();
     let cli = Cli::parse();
     let result = match cli.command {
         Command::Inspect { file, json } => commands::inspect(&file, json),

@@ -277,6 +277,35 @@ impl Head {
         self.output
             .forward(leaky_relu(self.hidden.forward(x), 0.01))
     }
+
+    /// The head over pairs of rows of `vertices` (`[V, W]`), `(i[p], j[p])`, each with its
+    /// `extra` row (`[P, E]`): the head's value at `[v_i + v_j, v_i * v_j, extra]` (hidden
+    /// width `2W + E`), as `[P]`. That input is never built: the hidden layer is linear, so
+    /// its part for `v_i + v_j` is each vertex's own projection gathered twice, and only the
+    /// product needs a `[P, W]` tensor. Per pair this reads `W` instead of `2W + E` columns and
+    /// writes none, where building the input cost more than the head (issue 15 item 8).
+    fn forward_pairs(
+        &self,
+        vertices: Tensor<2>,
+        i: Tensor<1, burn::tensor::Int>,
+        j: Tensor<1, burn::tensor::Int>,
+        extra: Tensor<2>,
+    ) -> Tensor<1> {
+        let [_, w] = vertices.dims();
+        let [p, e] = extra.dims();
+        // Burn's Linear weight is `[in, out]`: rows 0..W take the sum, W..2W the product.
+        let weight = self.hidden.weight.val();
+        let own = vertices.clone().matmul(weight.clone().narrow(0, 0, w));
+        let mut hidden = own.clone().select(0, i.clone())
+            + own.select(0, j.clone())
+            + (vertices.clone().select(0, i) * vertices.select(0, j))
+                .matmul(weight.clone().narrow(0, w, w))
+            + extra.matmul(weight.narrow(0, 2 * w, e));
+        if let Some(bias) = &self.hidden.bias {
+            hidden = hidden + bias.val().unsqueeze_dim(0);
+        }
+        self.output.forward(leaky_relu(hidden, 0.01)).reshape([p])
+    }
 }
 
 #[derive(Module, Debug)]
@@ -498,11 +527,6 @@ impl MeshVae {
             )
         };
         let at = index(&|&[k, i, j]| (k as usize * n + i as usize) * n + j as usize);
-        let rows = features.reshape([b * n, w]);
-        let h_i = rows
-            .clone()
-            .select(0, index(&|&[k, i, _]| k as usize * n + i as usize));
-        let h_j = rows.select(0, index(&|&[k, _, j]| k as usize * n + j as usize));
         let d = distances.reshape([b * n * n]).select(0, at.clone());
         let context = Tensor::<2>::from_data(
             TensorData::new(
@@ -511,16 +535,12 @@ impl MeshVae {
             ),
             &device,
         );
-        let input = Tensor::cat(
-            vec![
-                h_i.clone() + h_j.clone(),
-                h_i * h_j,
-                d.clone().reshape([pairs.len(), 1]),
-                context,
-            ],
-            1,
+        let corrections = head.forward_pairs(
+            features.reshape([b * n, w]),
+            index(&|&[k, i, _]| k as usize * n + i as usize),
+            index(&|&[k, _, j]| k as usize * n + j as usize),
+            Tensor::cat(vec![d.clone().reshape([pairs.len(), 1]), context], 1),
         );
-        let corrections = head.forward(input.unsqueeze_dim(0)).reshape([pairs.len()]);
         Some(PairCorrections {
             pairs,
             index: at,
@@ -607,31 +627,38 @@ pub fn add_pair_corrections(
 /// `n`), its [`PAIR_CANDIDATES`] highest-scoring real partners. Each pair once, as `(b, i, j)`
 /// with `i < j`, sorted.
 pub fn pair_candidates(distances: &[f32], n: usize, real: &[Vec<u32>]) -> Vec<[u32; 3]> {
-    let mut pairs = Vec::new();
+    // Meshes are independent; each one's list comes out sorted, so their concatenation is.
+    let meshes: Vec<&Vec<u32>> = real.iter().collect();
+    crate::parallel::map_in_parallel(meshes, |b, slots| {
+        mesh_pair_candidates(&distances[b * n * n..(b + 1) * n * n], n, b as u32, slots)
+    })
+    .concat()
+}
+
+/// [`pair_candidates`] of mesh `b`, whose distances are `plane` (`[n, n]`).
+fn mesh_pair_candidates(plane: &[f32], n: usize, b: u32, slots: &[u32]) -> Vec<[u32; 3]> {
+    let mut pairs = Vec::with_capacity(slots.len() * PAIR_CANDIDATES);
     let mut row: Vec<(f32, usize)> = Vec::with_capacity(n);
-    for (b, slots) in real.iter().enumerate() {
-        let plane = &distances[b * n * n..(b + 1) * n * n];
-        for &i in slots {
-            let i = i as usize;
-            row.clear();
-            // Read the upper triangle, so a pair has one score whatever its order.
-            row.extend(
-                slots
-                    .iter()
-                    .map(|&j| j as usize)
-                    .filter(|&j| j != i)
-                    .map(|j| {
-                        let (a, c) = (i.min(j), i.max(j));
-                        (plane[a * n + c], j)
-                    }),
-            );
-            let k = PAIR_CANDIDATES.min(row.len());
-            if k < row.len() {
-                row.select_nth_unstable_by(k, |x, y| y.0.total_cmp(&x.0));
-            }
-            for &(_, j) in &row[..k] {
-                pairs.push([b as u32, i.min(j) as u32, i.max(j) as u32]);
-            }
+    for &i in slots {
+        let i = i as usize;
+        row.clear();
+        // Read the upper triangle, so a pair has one score whatever its order.
+        row.extend(
+            slots
+                .iter()
+                .map(|&j| j as usize)
+                .filter(|&j| j != i)
+                .map(|j| {
+                    let (a, c) = (i.min(j), i.max(j));
+                    (plane[a * n + c], j)
+                }),
+        );
+        let k = PAIR_CANDIDATES.min(row.len());
+        if k < row.len() {
+            row.select_nth_unstable_by(k, |x, y| y.0.total_cmp(&x.0));
+        }
+        for &(_, j) in &row[..k] {
+            pairs.push([b, i.min(j) as u32, i.max(j) as u32]);
         }
     }
     pairs.sort_unstable();
@@ -671,42 +698,53 @@ pub fn pair_context(distances: &[f32], n: usize, pairs: &[[u32; 3]]) -> Vec<[f32
         list.sort_unstable();
     }
     let floor = -PAIR_CONTEXT_RANGE;
-    let mut common: Vec<(u32, f32)> = Vec::new();
-    pairs
-        .iter()
-        .map(|&[b, i, j]| {
-            let plane = &distances[b as usize * n * n..(b as usize + 1) * n * n];
-            let d = |a: u32, c: u32| plane[a.min(c) as usize * n + a.max(c) as usize];
-            let (pi, pj) = (&partners[slot(b, i)], &partners[slot(b, j)]);
-            // The shared partners k, each with its weaker side min(d_ik, d_kj).
-            common.clear();
-            let (mut x, mut y) = (0, 0);
-            while x < pi.len() && y < pj.len() {
-                match pi[x].cmp(&pj[y]) {
-                    std::cmp::Ordering::Less => x += 1,
-                    std::cmp::Ordering::Greater => y += 1,
-                    std::cmp::Ordering::Equal => {
-                        let k = pi[x];
-                        common.push((k, d(i, k).min(d(k, j))));
-                        x += 1;
-                        y += 1;
+    // Each pair's context is independent of the others': contiguous chunks on the threads.
+    let chunk = pairs.len().div_ceil(CONTEXT_CHUNKS).max(1);
+    let chunks: Vec<&[[u32; 3]]> = pairs.chunks(chunk).collect();
+    let partners = &partners;
+    crate::parallel::map_in_parallel(chunks, |_, chunk| {
+        let mut common: Vec<(u32, f32)> = Vec::new();
+        chunk
+            .iter()
+            .map(|&[b, i, j]| {
+                let plane = &distances[b as usize * n * n..(b as usize + 1) * n * n];
+                let d = |a: u32, c: u32| plane[a.min(c) as usize * n + a.max(c) as usize];
+                let (pi, pj) = (&partners[slot(b, i)], &partners[slot(b, j)]);
+                // The shared partners k, each with its weaker side min(d_ik, d_kj).
+                common.clear();
+                let (mut x, mut y) = (0, 0);
+                while x < pi.len() && y < pj.len() {
+                    match pi[x].cmp(&pj[y]) {
+                        std::cmp::Ordering::Less => x += 1,
+                        std::cmp::Ordering::Greater => y += 1,
+                        std::cmp::Ordering::Equal => {
+                            let k = pi[x];
+                            common.push((k, d(i, k).min(d(k, j))));
+                            x += 1;
+                            y += 1;
+                        }
                     }
                 }
-            }
-            let triangle = common.iter().map(|c| c.1).fold(floor, f32::max);
-            let mut rival = floor;
-            for (a, &(k, side_k)) in common.iter().enumerate() {
-                for &(l, side_l) in &common[a + 1..] {
-                    rival = rival.max(side_k.min(side_l).min(d(k, l)));
+                let triangle = common.iter().map(|c| c.1).fold(floor, f32::max);
+                let mut rival = floor;
+                for (a, &(k, side_k)) in common.iter().enumerate() {
+                    for &(l, side_l) in &common[a + 1..] {
+                        rival = rival.max(side_k.min(side_l).min(d(k, l)));
+                    }
                 }
-            }
-            [
-                triangle.clamp(floor, PAIR_CONTEXT_RANGE),
-                rival.clamp(floor, PAIR_CONTEXT_RANGE),
-            ]
-        })
-        .collect()
+                [
+                    triangle.clamp(floor, PAIR_CONTEXT_RANGE),
+                    rival.clamp(floor, PAIR_CONTEXT_RANGE),
+                ]
+            })
+            .collect::<Vec<_>>()
+    })
+    .concat()
 }
+
+/// How many pieces [`pair_context`] cuts its pairs into for the threads: a few per core, so
+/// that pieces of unequal cost still share out evenly.
+const CONTEXT_CHUNKS: usize = 8;
 
 /// The adjacency head's output layer, reference names (`[out, in]` weight and `[out]` bias).
 const EDGE_OUTPUT_WEIGHT: &str = "decoder.adjacency_head.2.weight";
@@ -905,6 +943,40 @@ mod tests {
         // A side: triangles through the diagonals (1.0 via vertex 2, 0.5 via vertex 3).
         assert_eq!(of(0, 1), [1.0, 0.5]);
         assert_eq!(of(4, 5), [-PAIR_CONTEXT_RANGE, -PAIR_CONTEXT_RANGE]);
+    }
+
+    /// The head over pairs without their input built gives what the head gives over the
+    /// built input `[v_i + v_j, v_i * v_j, extra]`, up to float rounding.
+    #[test]
+    fn the_head_over_pairs_is_the_head_over_their_built_input() {
+        let device = Device::flex();
+        let (v, w, e, p) = (40, 12, 3, 200);
+        let head = Head::with_hidden(2 * w + e, 8, 1, &device);
+        let mut rng = crate::rng::Rng::new(3);
+        let mut normal = |len: usize| (0..len).map(|_| rng.normal() as f32).collect::<Vec<f32>>();
+        let vertices = Tensor::<2>::from_data(TensorData::new(normal(v * w), [v, w]), &device);
+        let extra = Tensor::<2>::from_data(TensorData::new(normal(p * e), [p, e]), &device);
+        let (i, j): (Vec<i64>, Vec<i64>) = (0..p as i64).map(|k| (k * 7 % 40, k * 13 % 39)).unzip();
+        let index = |x: Vec<i64>| {
+            Tensor::<1, burn::tensor::Int>::from_data(TensorData::new(x, [p]), &device)
+        };
+        let (i, j) = (index(i), index(j));
+        let (h_i, h_j) = (
+            vertices.clone().select(0, i.clone()),
+            vertices.clone().select(0, j.clone()),
+        );
+        let built = Tensor::cat(vec![h_i.clone() + h_j.clone(), h_i * h_j, extra.clone()], 1);
+        let values = |t: Tensor<1>| t.into_data().convert::<f32>().try_to_vec::<f32>().unwrap();
+        let expected = values(head.forward(built.unsqueeze_dim(0)).reshape([p]));
+        let got = values(head.forward_pairs(vertices, i, j, extra));
+        let scale = expected.iter().fold(0f32, |m, x| m.max(x.abs()));
+        assert!(
+            scale > 0.1,
+            "a head whose output is near zero tests nothing ({scale})"
+        );
+        for (k, (a, b)) in got.iter().zip(&expected).enumerate() {
+            assert!((a - b).abs() <= 1e-5 * scale, "pair {k}: {a} against {b}");
+        }
     }
 
     /// A new pair head changes nothing until trained; once its output layer is not zero it
