@@ -281,7 +281,6 @@ struct FlowDraws {
     positions: Vec<[f32; 3]>,
     /// One row of input points per example (empty for a DiT without point tokens).
     points: Vec<Vec<Vec3>>,
-    tokens: usize,
     /// `[b, tokens, latent_dim]`: the clean latents and the noise.
     x0: Tensor<3>,
     eps: Tensor<3>,
@@ -332,7 +331,6 @@ fn flow_draws(
     FlowDraws {
         positions,
         points,
-        tokens: l,
         x0,
         eps,
         t,
@@ -350,7 +348,8 @@ impl FlowDraws {
         let tt = Tensor::<1>::from_data(TensorData::new(t.clone(), [b]), device).reshape([b, 1, 1]);
         let x_t = x0.clone() * (tt.clone().neg() + 1.0) + eps.clone() * tt;
         let cond = self.cond[rows.clone()].to_vec();
-        let positions = &self.positions[rows.start * self.tokens..rows.end * self.tokens];
+        let tokens = self.x0.dims()[1];
+        let positions = &self.positions[rows.start * tokens..rows.end * tokens];
         let points = self.points.get(rows).unwrap_or(&[]);
         FlowBatch {
             x_t,
@@ -476,9 +475,10 @@ impl Task for DitTask<'_> {
                 .collect();
             let (losses, grads) = gradients_in_parallel(&dit, work, |copy, fb| {
                 let loss = flow_loss(copy, &fb);
-                (loss.clone(), loss)
+                let value = scalar(loss.clone());
+                (loss, value)
             });
-            let loss = losses.into_iter().map(|(share, l)| share * scalar(l)).sum();
+            let loss = losses.into_iter().map(|(share, l)| share * l).sum();
             (loss, grads)
         };
         let (dit, grad_norm) = optim.step(optim_state, dit, grads, lr);
