@@ -361,17 +361,6 @@ impl FlowDraws {
     }
 }
 
-/// The whole batch's flow-matching inputs ([`flow_draws`], [`FlowDraws::batch`]).
-fn flow_batch(
-    examples: &[&LatentExample],
-    augment: Option<&PositionAugment>,
-    cfg: &DitConfig,
-    rng: &mut Rng,
-    device: &Device,
-) -> FlowBatch {
-    flow_draws(examples, augment, cfg, rng, device).batch(0..examples.len(), cfg, device)
-}
-
 /// Mean squared error of the predicted velocity.
 fn flow_loss(dit: &Dit, batch: &FlowBatch) -> Tensor<1> {
     let v = dit.forward(
@@ -400,7 +389,11 @@ pub fn validate_dit(
         .flat_map(|same| same.chunks(cfg.batch_size.max(1)));
     for chunk in chunks {
         let refs: Vec<&LatentExample> = chunk.to_vec();
-        let batch = flow_batch(&refs, None, &cfg.model, &mut rng, device);
+        let batch = flow_draws(&refs, None, &cfg.model, &mut rng, device).batch(
+            0..refs.len(),
+            &cfg.model,
+            device,
+        );
         sum += scalar(flow_loss(dit, &batch)) * chunk.len() as f64;
         n += chunk.len() as f64;
     }
