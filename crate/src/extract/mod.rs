@@ -818,6 +818,30 @@ pub fn edges_from_bits(
     Ok(edges)
 }
 
+/// Checks that `values` holds `rows` rows of `width` finite values each (a decoder output read
+/// back), naming `what` and the first bad row in the decoder's numbering.
+fn check_rows(
+    what: &'static str,
+    values: &[f32],
+    rows: usize,
+    width: usize,
+) -> Result<(), ExtractError> {
+    if values.len() != rows * width {
+        return Err(ExtractError::LengthMismatch {
+            what,
+            got: values.len(),
+            expected: rows * width,
+        });
+    }
+    match values.iter().position(|x| !x.is_finite()) {
+        Some(i) => Err(ExtractError::NonFinite {
+            what,
+            row: i / width.max(1),
+        }),
+        None => Ok(()),
+    }
+}
+
 /// The vertices the mask keeps: those whose logit is > 0, ascending. Extraction keeps these,
 /// and a pair head picks its candidates among them.
 pub fn kept_vertices(mask_logits: &[f32]) -> Vec<u32> {
@@ -870,19 +894,7 @@ pub fn extract_from_decoded(
     };
     let (mesh, mut report) = match decoded.edges {
         DecodedEdges::Embeddings { values, dim } => {
-            if values.len() != n * dim {
-                return Err(ExtractError::LengthMismatch {
-                    what: "embeddings",
-                    got: values.len(),
-                    expected: n * dim,
-                });
-            }
-            if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-                return Err(ExtractError::NonFinite {
-                    what: "embeddings",
-                    row: i / dim.max(1),
-                });
-            }
+            check_rows("embeddings", values, n, dim)?;
             let embeddings: Vec<f32> = kept
                 .iter()
                 .flat_map(|&i| values[i * dim..(i + 1) * dim].iter().copied())
@@ -895,19 +907,7 @@ pub fn extract_from_decoded(
             extract_mesh(&positions, &normals, &edges, support, opts)?
         }
         DecodedEdges::Distances { values } => {
-            if values.len() != n * n {
-                return Err(ExtractError::LengthMismatch {
-                    what: "pair distances",
-                    got: values.len(),
-                    expected: n * n,
-                });
-            }
-            if let Some(i) = values.iter().position(|x| !x.is_finite()) {
-                return Err(ExtractError::NonFinite {
-                    what: "pair distances",
-                    row: i / n,
-                });
-            }
+            check_rows("pair distances", values, n, n)?;
             // The kept vertices' pairs, renumbered; `kept` is ascending, so a < b reads the
             // upper triangle.
             let k = kept.len();
