@@ -87,27 +87,28 @@ def fit(data, keys):
     return w, scores
 
 
-start = time.time()
-data = {'train': load('train'), 'val': load('val', noise=(0.003, 0.01)), 'test': load('test')}
-print(f"{len(data['train'])} / {len(data['val'])} / {len(data['test'])} train / val / test meshes (<= {MAX_V} vertices), {time.time() - start:.0f} s")
-SETS = [['ln_occ32', 'variation16'], ['flat_share3'], ['ln_facets3'],
-        ['ln_occ32', 'variation16', 'flat_share3'],
-        ['ln_occ32', 'variation16', 'flat_share3', 'ln_facets3'],
-        ['ln_occ32', 'variation16', 'flat_share3', 'flat_share8', 'ln_facets3', 'ln_facets8'],
-        ['ln_occ32', 'variation16', 'ln_facets3', 'flat_share3', 'ln_eff_facets3', 'ln_facets8', 'flat_share8', 'ln_eff_facets8']]
-results = []
-print(f"{'features':90s} {'train R^2':>9s} {'val R^2':>8s} {'test R^2':>8s} {'val miss':>8s} {'test miss':>9s}")
-for keys in SETS:
-    w, s = fit(data, keys)
-    results.append({'features': keys, 'coefficients': w.tolist(), **s})
-    print(f"{' + '.join(keys):90s} {s['train']['r2']:9.3f} {s['val']['r2']:8.3f} {s['test']['r2']:8.3f} "
-          f"x{s['val']['median_factor']:7.2f} x{s['test']['median_factor']:8.2f}")
-noise = {}
-for key in ('flat_share3', 'ln_facets3', 'variation16'):
-    noise[key] = {'clean': float(np.mean([r[key] for r in data['val']]))}
-    for sigma in (0.003, 0.01):
-        noise[key][f'sigma {sigma}'] = float(np.mean([r[f'noisy{sigma}'][key] for r in data['val']]))
-    print(f'{key}: validation mean', ', '.join(f'{k} {v:.4f}' for k, v in noise[key].items()))
-if OUT:
-    with open(OUT, 'w') as f:
-        json.dump({'fits': results, 'noise_on_validation': noise, 'points': POINTS, 'neighbours': K}, f, indent=1)
+if __name__ == '__main__':
+    start = time.time()
+    data = {'train': load('train'), 'val': load('val', noise=(0.003, 0.01)), 'test': load('test')}
+    print(f"{len(data['train'])} / {len(data['val'])} / {len(data['test'])} train / val / test meshes (<= {MAX_V} vertices), {time.time() - start:.0f} s")
+    SETS = [['ln_occ32', 'variation16'], ['flat_share3'], ['ln_facets3'],
+            ['ln_occ32', 'variation16', 'flat_share3'],
+            ['ln_occ32', 'variation16', 'flat_share3', 'ln_facets3'],
+            ['ln_occ32', 'variation16', 'flat_share3', 'flat_share8', 'ln_facets3', 'ln_facets8'],
+            ['ln_occ32', 'variation16', 'ln_facets3', 'flat_share3', 'ln_eff_facets3', 'ln_facets8', 'flat_share8', 'ln_eff_facets8']]
+    results = []
+    print(f"{'features':90s} {'train R^2':>9s} {'val R^2':>8s} {'test R^2':>8s} {'val miss':>8s} {'test miss':>9s}")
+    for keys in SETS:
+        w, s = fit(data, keys)
+        results.append({'features': keys, 'coefficients': w.tolist(), **s})
+        print(f"{' + '.join(keys):90s} {s['train']['r2']:9.3f} {s['val']['r2']:8.3f} {s['test']['r2']:8.3f} "
+              f"x{s['val']['median_factor']:7.2f} x{s['test']['median_factor']:8.2f}")
+    noise = {}
+    for key in ('flat_share3', 'ln_facets3', 'variation16'):
+        noise[key] = {'clean': float(np.mean([r[key] for r in data['val']]))}
+        for sigma in (0.003, 0.01):
+            noise[key][f'sigma {sigma}'] = float(np.mean([r[f'noisy{sigma}'][key] for r in data['val']]))
+        print(f'{key}: validation mean', ', '.join(f'{k} {v:.4f}' for k, v in noise[key].items()))
+    if OUT:
+        with open(OUT, 'w') as f:
+            json.dump({'fits': results, 'noise_on_validation': noise, 'points': POINTS, 'neighbours': K}, f, indent=1)

@@ -390,8 +390,11 @@ fn report(
             g.mesh.faces.len()
         ),
         None => println!(
-            "  vertex budget {} (occupancy {}, surface variation {:.4})",
-            g.vertex_budget, g.features.occupied_voxels, g.features.surface_variation
+            "  vertex budget {} (occupancy {}, surface variation {:.4}, planar share {:.3})",
+            g.vertex_budget,
+            g.features.occupied_voxels,
+            g.features.surface_variation,
+            g.features.planar_share
         ),
     }
     if samples > 1 {

@@ -26,7 +26,8 @@ export interface GenerateReport {
   vertexBudget: number;
   /** Candidates drawn (`samples`); the mesh is the one kept. */
   samples: number;
-  features: { occupied_voxels: number; surface_variation: number };
+  /** What the default vertex budget was computed from (README.md, "Vertex budget"). */
+  features: { occupied_voxels: number; surface_variation: number; planar_share: number };
   times: StageTimes;
   topology: TopologyReport;
   extract: Record<string, number>;
