@@ -1,8 +1,8 @@
 //! The default vertex budget of a generation, from the input point cloud alone.
 //!
 //! Artists spend vertices on size and on curvature: a large flat wall needs few, a small
-//! detailed prop many per unit area. Three features of the model-frame point cloud capture that,
-//! all read from the 16 nearest neighbours of sampled points:
+//! detailed prop many per unit area. Three features of the model-frame point cloud capture that
+//! (the last two from the same 16-neighbour neighbourhoods of 512 sampled points):
 //! - **occupancy** `A`: occupied cells of the 32^3 conditioning grid (a surface-area proxy that
 //!   a point cloud without faces still has);
 //! - **surface variation** `C`: the mean over sampled points of `l0 / (l0 + l1 + l2)`, the
