@@ -223,6 +223,52 @@ fn a_silent_pair_head_generates_the_mesh_of_the_decoder_alone() {
     assert_eq!(b.topology.non_manifold_edges, 0);
 }
 
+/// `meshflow bench pair-head`: the embeddings and their own distance matrix are one graph
+/// with one set of margins, so they extract the same faces; only the head's corrections may
+/// change the graph. A VAE without a head has nothing to trace.
+#[test]
+fn the_pair_head_trace_compares_one_graph_in_two_forms() {
+    use meshflow::eval::pair_head_extraction::{PairHeadTraceError, trace_pair_head_extraction};
+    use meshflow::model::module_tensors;
+    let m = models();
+    let opts = GenerateOptions {
+        samples: 2,
+        ..options(2)
+    };
+    let points = sphere_points(1.0, Vec3::ZERO);
+    let trace =
+        trace_pair_head_extraction(&m.generator(), &points, &opts, std::time::Duration::ZERO)
+            .unwrap();
+    assert_eq!(trace.candidates.len(), 2);
+    for c in &trace.candidates {
+        let counts = |s: &meshflow::eval::pair_head_extraction::SourceTiming| {
+            (s.edges, s.clique_faces, s.faces)
+        };
+        assert!(c.kept_vertices > 0 && c.embeddings.faces > 0, "{c:?}");
+        assert_eq!(counts(&c.embeddings), counts(&c.spacetime_distances));
+        assert!(c.pair_head_distances.timing.runs >= 5);
+    }
+    let faces: usize = trace
+        .candidates
+        .iter()
+        .map(|c| c.pair_head_distances.faces)
+        .sum();
+    assert_eq!(trace.pair_head_distances.faces, faces);
+
+    let mut map = module_tensors(&m.vae);
+    map.tensors.retain(|name, _| !name.contains("pair_head"));
+    let plain_cfg = VaeConfig {
+        pair_head: 0,
+        ..m.vae_cfg.clone()
+    };
+    let plain = load_module(MeshVae::new(&plain_cfg, &m.device), &map, &|_| false).unwrap();
+    let generator = Generator::new(
+        &plain, &plain_cfg, &m.mean, &m.std, &m.dit, &m.dit_cfg, &m.device,
+    );
+    let err = trace_pair_head_extraction(&generator, &points, &opts, std::time::Duration::ZERO);
+    assert!(matches!(err, Err(PairHeadTraceError::NoPairHead)));
+}
+
 #[test]
 fn a_dit_that_reads_points_generates_reproducibly_and_batch_independently() {
     let m = models_reading(32);
@@ -367,6 +413,27 @@ fn default_budget_comes_from_the_rule_within_the_vae_size() {
         out[0].vertex_budget,
         meshflow::pipeline::budget::DEFAULT_RULE.budget(&features, 512)
     );
+    // The budget is the input's, not the seed's: another seed, another input of the same
+    // batch and the candidates of `--samples` all measure the same features.
+    let seeded = |seed: u64, inputs: &[Vec<Vec3>], samples: usize| {
+        let opts = GenerateOptions {
+            seed,
+            samples,
+            ..opts.clone()
+        };
+        m.generator()
+            .generate(inputs, &opts, &mut |_, _| true)
+            .unwrap()
+    };
+    let sphere = sphere_points(1.0, Vec3::ZERO);
+    // The same shape moved and scaled: the same model-frame points up to rounding.
+    let moved = sphere_points(2.0, Vec3::X);
+    let batch = seeded(7, &[moved, sphere.clone()], 1);
+    assert_eq!(batch[0].vertex_budget, out[0].vertex_budget);
+    for g in batch[1..].iter().chain(&seeded(3, &[sphere], 3)) {
+        assert_eq!(g.features, features);
+        assert_eq!(g.vertex_budget, out[0].vertex_budget);
+    }
 }
 
 #[test]

@@ -28,6 +28,10 @@ pub enum BenchCommand {
     /// pairwise adjacency, backward, optimiser, EMA), with matrix-product FLOP/s against the
     /// CPU backend's measured matmul peak.
     TrainVae(crate::train::BenchTrainVaeArgs),
+    /// Stage 4 with a pair head: one generation's candidates decoded once, each extracted
+    /// (one thread) from the edge embeddings, their distance matrix and the pair head's
+    /// distances, with the edges and candidate faces each offers.
+    PairHead(crate::generate::BenchPairHeadArgs),
 }
 
 /// Runs a benchmark; `extract` prints progress to stderr and writes its JSON atomically.
@@ -36,6 +40,7 @@ pub fn run(which: BenchCommand) -> Result<()> {
         BenchCommand::Extract { output, seconds } => (output, seconds),
         BenchCommand::Generate(args) => return crate::generate::bench_generate(args),
         BenchCommand::TrainVae(args) => return crate::train::bench_train_vae(args),
+        BenchCommand::PairHead(args) => return crate::generate::bench_pair_head(args),
     };
     let report = bench_extract(
         Duration::from_secs_f64(seconds),

@@ -4,7 +4,7 @@
 
 use std::fs;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
@@ -615,5 +615,59 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     println!("{json}");
     meshflow::io::write_atomic(&args.output, json.as_bytes())
         .with_context(|| format!("cannot write {}", args.output.display()))?;
+    Ok(())
+}
+
+#[derive(Args)]
+pub struct BenchPairHeadArgs {
+    /// The point cloud or mesh to generate from.
+    #[arg(long, default_value = "tests/fixtures/points/stone_lantern_2048.ply")]
+    input: PathBuf,
+    /// Minimum time per candidate and edge source, in seconds.
+    #[arg(long, default_value_t = 1.0)]
+    seconds: f64,
+    #[command(flatten)]
+    sampling: SamplingArgs,
+    /// Where to write the JSON.
+    #[arg(short, long)]
+    output: PathBuf,
+}
+
+/// Times stage 4 per candidate from the three edge sources of
+/// [`meshflow::eval::pair_head_extraction`] and prints the sums.
+pub fn bench_pair_head(args: BenchPairHeadArgs) -> Result<()> {
+    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
+    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
+    let points = input_points(&read_input(&args.input)?, args.sampling.seed)
+        .map_err(|e| BadInput(e.to_string()))?;
+    let opts = args.sampling.options(None, None);
+    let report = meshflow::eval::pair_head_extraction::trace_pair_head_extraction(
+        &models.generator(&dev),
+        &points,
+        &opts,
+        Duration::from_secs_f64(args.seconds),
+    )
+    .map_err(|e| BadInput(e.to_string()))?;
+    println!(
+        "{} candidates, {} slots each; sums over the candidates (one thread):",
+        report.candidates.len(),
+        report.slots
+    );
+    println!("edge source             median ms  edges  clique faces  faces");
+    for (name, t) in [
+        ("embeddings", &report.embeddings),
+        ("spacetime distances", &report.spacetime_distances),
+        ("pair head distances", &report.pair_head_distances),
+    ] {
+        println!(
+            "{name:22} {:>10.2} {:>6} {:>13} {:>6}",
+            t.median_ms, t.edges, t.clique_faces, t.faces
+        );
+    }
+    meshflow::io::write_atomic(
+        &args.output,
+        serde_json::to_string_pretty(&report)?.as_bytes(),
+    )
+    .with_context(|| format!("cannot write {}", args.output.display()))?;
     Ok(())
 }

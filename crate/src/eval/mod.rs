@@ -7,6 +7,9 @@ pub mod edge_errors;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod generation;
 pub mod metrics;
+/// Stage 4 with and without a pair head's distances (`meshflow bench pair-head`).
+#[cfg(not(target_arch = "wasm32"))]
+pub mod pair_head_extraction;
 #[cfg(not(target_arch = "wasm32"))]
 pub mod reconstruction;
 #[cfg(not(target_arch = "wasm32"))]

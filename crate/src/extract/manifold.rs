@@ -48,11 +48,10 @@
 //! break either property. The work is O(F log F) for F candidates (the sort), hash lookups
 //! otherwise: well under a millisecond at the model's 512 vertices.
 
-use std::collections::{HashMap, HashSet};
-
 use glam::Vec3;
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
-use crate::extract::overlap::FaceLayers;
+use crate::extract::overlap::{FaceLayers, cell_size};
 use crate::geometry::disjoint_sets::DisjointSets;
 use crate::geometry::topology::{self, Edge, rotate_min_first, sorted_face};
 
@@ -141,13 +140,14 @@ struct Selection {
 }
 
 impl Selection {
-    fn new(overlap_tolerance: f32) -> Self {
+    /// `cell`: the overlap grid's cell side ([`cell_size`]).
+    fn new(overlap_tolerance: f32, cell: f32) -> Self {
         Self {
             faces: Vec::new(),
             parent: Vec::new(),
             flip: Vec::new(),
-            on_edge: HashMap::new(),
-            layers: FaceLayers::new(overlap_tolerance),
+            on_edge: HashMap::default(),
+            layers: FaceLayers::new(overlap_tolerance, cell),
         }
     }
 
@@ -234,7 +234,7 @@ impl Selection {
     fn oriented_faces(mut self) -> Vec<[u32; 3]> {
         let n = self.faces.len() as u32;
         let found: Vec<(u32, bool)> = (0..n).map(|f| self.find(f)).collect();
-        let mut votes: HashMap<u32, i64> = HashMap::new();
+        let mut votes: HashMap<u32, i64> = HashMap::default();
         for &(root, flipped) in &found {
             *votes.entry(root).or_default() += if flipped { -1 } else { 1 };
         }
@@ -272,15 +272,16 @@ struct Surface<'a> {
 }
 
 impl<'a> Surface<'a> {
-    fn new(positions: &'a [Vec3], overlap_tolerance: f32) -> Self {
+    /// `cell`: the overlap grid's cell side ([`cell_size`]).
+    fn new(positions: &'a [Vec3], overlap_tolerance: f32, cell: f32) -> Self {
         Self {
             positions,
             faces: Vec::new(),
             alive: Vec::new(),
             face_normals: Vec::new(),
-            on_edge: HashMap::new(),
-            vertex_sets: HashSet::new(),
-            layers: FaceLayers::oriented(overlap_tolerance),
+            on_edge: HashMap::default(),
+            vertex_sets: HashSet::default(),
+            layers: FaceLayers::oriented(overlap_tolerance, cell),
         }
     }
 
@@ -543,7 +544,8 @@ pub fn manifold_faces(
     };
     order.sort_by(|&x, &y| key(y).total_cmp(&key(x)).then(x.cmp(&y)));
 
-    let mut selection = Selection::new(opts.overlap_tolerance);
+    let cell = cell_size(positions, preferred);
+    let mut selection = Selection::new(opts.overlap_tolerance, cell);
     for k in order {
         let face = preferred[k];
         if unit_normal(positions, face) == Vec3::ZERO {
@@ -559,7 +561,7 @@ pub fn manifold_faces(
         }
     }
     // The accepted faces were checked already; the surface checks only the ears.
-    let mut surface = Surface::new(positions, opts.overlap_tolerance);
+    let mut surface = Surface::new(positions, opts.overlap_tolerance, cell);
     for face in selection.oriented_faces() {
         surface.add(face);
     }
@@ -594,7 +596,7 @@ pub fn manifold_faces(
 /// different pieces): a label per face, numbered by first face, and the number of pieces.
 fn edge_pieces(faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
     let mut sets = DisjointSets::new(faces.len());
-    let mut first_on: HashMap<Edge, u32> = HashMap::new();
+    let mut first_on: HashMap<Edge, u32> = HashMap::default();
     for (f, &face) in faces.iter().enumerate() {
         for e in topology::face_edges(face) {
             let g = *first_on.entry(e).or_insert(f as u32);
@@ -714,7 +716,7 @@ mod tests {
         .to_vec();
         let ring: Vec<[u32; 3]> = (0..5).map(|k| [(k + 1) % 5, k, 5 + k]).collect();
         let surface_with_ring = || {
-            let mut s = Surface::new(&p, 0.5);
+            let mut s = Surface::new(&p, 0.5, 1.0);
             for &f in &ring {
                 assert!(s.check(f).is_ok(), "the ring is a clean surface");
                 s.add(f);

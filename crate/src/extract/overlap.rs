@@ -16,73 +16,215 @@
 //! tested by separating axes (the six edge normals), where intervals that overlap by less than
 //! a millionth of the face's size count as separate, so faces that only touch at a vertex or
 //! along a line do not overlap.
+//!
+//! The accepted faces' bounding boxes sit in a uniform grid of cubes about one face across
+//! ([`cell_size`]): faces come and go one at a time while they are chosen, which a hash grid
+//! takes in a few lookups where an R-tree rebalances. A box over more than 64 cells (a face
+//! far larger than the rest) is kept in a list every query reads instead.
 
-use glam::{Vec2, Vec3};
-use rstar::primitives::{GeomWithData, Rectangle};
-use rstar::{AABB, RTree};
+use std::cell::{Cell, RefCell};
+
+use glam::{IVec3, Vec2, Vec3};
+use rustc_hash::FxHashMap;
 
 use crate::extract::manifold::unit_normal;
-
-type Boxed = GeomWithData<Rectangle<[f32; 3]>, [u32; 3]>;
 
 /// Smallest |cosine| between two faces' normals for them to count as lying on each other.
 const PARALLEL_COS: f32 = 0.5;
 
+/// Most grid cells one face's box is entered in, or one query reads; beyond, the face goes to
+/// the list every query reads, and the query reads every face.
+const MAX_CELLS: i64 = 64;
+
+/// A grid cell's side for the faces `faces` of `positions`: twice the median of their longest
+/// edges (at most 257 of them, evenly spread), so a typical face's box, and a query's box
+/// around it, covers a few cells. 0 when no face has a positive finite size.
+pub fn cell_size(positions: &[Vec3], faces: &[[u32; 3]]) -> f32 {
+    let step = faces.len().div_ceil(257).max(1);
+    let mut sizes: Vec<f32> = faces
+        .iter()
+        .step_by(step)
+        .map(|&f| {
+            let [a, b, c] = f.map(|v| positions[v as usize]);
+            a.distance(b).max(b.distance(c)).max(c.distance(a))
+        })
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .collect();
+    if sizes.is_empty() {
+        return 0.0;
+    }
+    let mid = sizes.len() / 2;
+    2.0 * *sizes.select_nth_unstable_by(mid, f32::total_cmp).1
+}
+
+/// An accepted face, its bounding box and its unit normal.
+struct Entry {
+    face: [u32; 3],
+    lo: Vec3,
+    hi: Vec3,
+    normal: Vec3,
+}
+
 /// The accepted faces, for [`FaceLayers::overlaps`].
 pub struct FaceLayers {
-    tree: RTree<Boxed>,
     tolerance: f32,
     /// Count only faces wound the same way (normals within 60 degrees, not either
     /// orientation): for faces whose windings are final, where the far side of a thin part
     /// faces away and is no second layer.
     oriented: bool,
+    /// The grid's cell side; 0 or less keeps every face in `oversize`.
+    cell: f32,
+    /// Every face ever inserted, by id; a removed one stays, out of `live` and the grid.
+    entries: Vec<Entry>,
+    /// The id of each face inserted and not removed (vertices in insertion order).
+    live: FxHashMap<[u32; 3], u32>,
+    grid: FxHashMap<IVec3, Vec<u32>>,
+    oversize: Vec<u32>,
+    /// `stamps[id]` is the last query that read face `id` (`query` counts them), so a face
+    /// in several cells is tested once per query without sorting the ids.
+    stamps: RefCell<Vec<u32>>,
+    query: Cell<u32>,
 }
 
 impl FaceLayers {
     /// No faces yet; `tolerance` is the largest distance from a face's plane, in its longest
     /// edges, at which another face counts as lying on it (0 or less: nothing ever overlaps).
-    pub fn new(tolerance: f32) -> Self {
+    /// `cell` is the grid's cell side, about a typical face's size ([`cell_size`]); any value
+    /// gives the same answers, only slower when far off.
+    pub fn new(tolerance: f32, cell: f32) -> Self {
         Self {
-            tree: RTree::new(),
             tolerance,
             oriented: false,
+            cell: if cell.is_finite() { cell } else { 0.0 },
+            entries: Vec::new(),
+            live: FxHashMap::default(),
+            grid: FxHashMap::default(),
+            oversize: Vec::new(),
+            stamps: RefCell::new(Vec::new()),
+            query: Cell::new(0),
         }
     }
 
     /// [`FaceLayers::new`] for wound faces: a face facing the other way is not on the same
     /// layer (the far side of a thin part).
-    pub fn oriented(tolerance: f32) -> Self {
+    pub fn oriented(tolerance: f32, cell: f32) -> Self {
         Self {
             oriented: true,
-            ..Self::new(tolerance)
+            ..Self::new(tolerance, cell)
         }
     }
 
-    fn boxed(positions: &[Vec3], face: [u32; 3]) -> Boxed {
-        let [a, b, c] = face.map(|v| positions[v as usize]);
-        let lo = a.min(b).min(c);
-        let hi = a.max(b).max(c);
-        GeomWithData::new(Rectangle::from_corners(lo.to_array(), hi.to_array()), face)
+    /// The grid cells a box covers, or `None` when they are more than [`MAX_CELLS`].
+    fn cells(&self, lo: Vec3, hi: Vec3) -> Option<(IVec3, IVec3)> {
+        if self.cell <= 0.0 {
+            return None;
+        }
+        // Float-to-int casts saturate, so far-off coordinates cannot wrap around.
+        let (a, b) = (
+            (lo / self.cell).floor().as_ivec3(),
+            (hi / self.cell).floor().as_ivec3(),
+        );
+        let span = (b.as_i64vec3() - a.as_i64vec3() + 1).max(glam::I64Vec3::ONE);
+        (span.x * span.y * span.z <= MAX_CELLS).then_some((a, b))
+    }
+
+    fn for_cells(a: IVec3, b: IVec3, mut visit: impl FnMut(IVec3)) {
+        for x in a.x..=b.x {
+            for y in a.y..=b.y {
+                for z in a.z..=b.z {
+                    visit(IVec3::new(x, y, z));
+                }
+            }
+        }
     }
 
     /// Records `face` as accepted.
     pub fn insert(&mut self, positions: &[Vec3], face: [u32; 3]) {
-        if self.tolerance > 0.0 {
-            self.tree.insert(Self::boxed(positions, face));
+        if self.tolerance <= 0.0 {
+            return;
+        }
+        let [a, b, c] = face.map(|v| positions[v as usize]);
+        let (lo, hi) = (a.min(b).min(c), a.max(b).max(c));
+        let id = self.entries.len() as u32;
+        let normal = unit_normal(positions, face);
+        self.entries.push(Entry {
+            face,
+            lo,
+            hi,
+            normal,
+        });
+        self.live.insert(face, id);
+        match self.cells(lo, hi) {
+            Some((a, b)) => {
+                Self::for_cells(a, b, |k| self.grid.entry(k).or_default().push(id));
+            }
+            None => self.oversize.push(id),
         }
     }
 
     /// Forgets an accepted `face` (its vertices in the order it was inserted with).
-    pub fn remove(&mut self, positions: &[Vec3], face: [u32; 3]) {
-        if self.tolerance > 0.0 {
-            self.tree.remove(&Self::boxed(positions, face));
+    pub fn remove(&mut self, _positions: &[Vec3], face: [u32; 3]) {
+        let Some(id) = self.live.remove(&face) else {
+            return;
+        };
+        let Entry { lo, hi, .. } = self.entries[id as usize];
+        match self.cells(lo, hi) {
+            Some((a, b)) => Self::for_cells(a, b, |k| {
+                if let Some(ids) = self.grid.get_mut(&k) {
+                    ids.retain(|&i| i != id);
+                }
+            }),
+            None => self.oversize.retain(|&i| i != id),
+        }
+    }
+
+    /// Whether `test` holds for a live face whose box meets the box `lo..hi`, each face
+    /// tested at most once.
+    fn any_near(&self, lo: Vec3, hi: Vec3, test: impl Fn(&Entry) -> bool) -> bool {
+        let query = self.query.get().wrapping_add(1);
+        self.query.set(query);
+        let mut stamps = self.stamps.borrow_mut();
+        if query == 0 {
+            // The counter wrapped: forget every stamp so none can look current.
+            stamps.fill(u32::MAX);
+        }
+        stamps.resize(self.entries.len(), u32::MAX);
+        let mut read = |id: u32| {
+            let stamp = &mut stamps[id as usize];
+            if *stamp == query {
+                return false;
+            }
+            *stamp = query;
+            let e = &self.entries[id as usize];
+            !(e.hi.cmplt(lo).any() || e.lo.cmpgt(hi).any()) && test(e)
+        };
+        if self.oversize.iter().any(|&id| read(id)) {
+            return true;
+        }
+        match self.cells(lo, hi) {
+            Some((a, b)) => {
+                for x in a.x..=b.x {
+                    for y in a.y..=b.y {
+                        for z in a.z..=b.z {
+                            let Some(ids) = self.grid.get(&IVec3::new(x, y, z)) else {
+                                continue;
+                            };
+                            if ids.iter().any(|&id| read(id)) {
+                                return true;
+                            }
+                        }
+                    }
+                }
+                false
+            }
+            None => self.live.values().any(|&id| read(id)),
         }
     }
 
     /// Whether `face` overlaps an accepted face that shares at most one vertex with it (see
     /// the module documentation).
     pub fn overlaps(&self, positions: &[Vec3], face: [u32; 3]) -> bool {
-        if self.tolerance <= 0.0 {
+        if self.tolerance <= 0.0 || self.live.is_empty() {
             return false;
         }
         let [a, b, c] = face.map(|v| positions[v as usize]);
@@ -94,27 +236,24 @@ impl FaceLayers {
         let reach = self.tolerance * size;
         let lo = a.min(b).min(c) - Vec3::splat(reach);
         let hi = a.max(b).max(c) + Vec3::splat(reach);
-        let envelope = AABB::from_corners(lo.to_array(), hi.to_array());
         let (u, v) = normal.any_orthonormal_pair();
         let flat = |p: Vec3| Vec2::new((p - a).dot(u), (p - a).dot(v));
         let mine = [a, b, c].map(flat);
-        self.tree
-            .locate_in_envelope_intersecting(envelope)
-            .any(|other| {
-                let g = other.data;
-                if g.iter().filter(|v| face.contains(v)).count() >= 2 {
-                    return false;
-                }
-                let cos = unit_normal(positions, g).dot(normal);
-                if (if self.oriented { cos } else { cos.abs() }) < PARALLEL_COS {
-                    return false;
-                }
-                let corners = g.map(|v| positions[v as usize]);
-                if corners.iter().any(|&x| (x - a).dot(normal).abs() > reach) {
-                    return false;
-                }
-                triangles_overlap(mine, corners.map(flat), size * 1e-6)
-            })
+        self.any_near(lo, hi, |other| {
+            let g = other.face;
+            if g.iter().filter(|v| face.contains(v)).count() >= 2 {
+                return false;
+            }
+            let cos = other.normal.dot(normal);
+            if (if self.oriented { cos } else { cos.abs() }) < PARALLEL_COS {
+                return false;
+            }
+            let corners = g.map(|v| positions[v as usize]);
+            if corners.iter().any(|&x| (x - a).dot(normal).abs() > reach) {
+                return false;
+            }
+            triangles_overlap(mine, corners.map(flat), size * 1e-6)
+        })
     }
 }
 
@@ -173,7 +312,7 @@ mod tests {
     #[test]
     fn a_second_layer_overlaps_but_neighbours_and_far_sides_do_not() {
         let p = positions();
-        let mut layers = FaceLayers::new(0.2);
+        let mut layers = FaceLayers::new(0.2, 1.0);
         layers.insert(&p, [0, 1, 2]);
         assert!(layers.overlaps(&p, [3, 4, 5]));
         assert!(layers.overlaps(&p, [3, 5, 4]), "either winding");
@@ -185,7 +324,49 @@ mod tests {
         );
         layers.remove(&p, [0, 1, 2]);
         assert!(!layers.overlaps(&p, [3, 4, 5]));
-        assert!(!FaceLayers::new(0.0).overlaps(&p, [3, 4, 5]));
+        assert!(!FaceLayers::new(0.0, 1.0).overlaps(&p, [3, 4, 5]));
+    }
+
+    /// The grid only decides which faces are compared: any cell size, from one that puts
+    /// every face in the list every query reads to one that puts each in a single cell, gives
+    /// the same answers, before and after removals.
+    #[test]
+    fn the_cell_size_never_changes_an_answer() {
+        let mut rng = crate::rng::Rng::new(7);
+        // Small random triangles in a unit box: many near-parallel neighbours at all scales.
+        let p: Vec<Vec3> = (0..300)
+            .map(|_| Vec3::new(rng.next_f32(), rng.next_f32(), 0.1 * rng.next_f32()))
+            .collect();
+        let faces: Vec<[u32; 3]> = (0..100).map(|k| [3 * k, 3 * k + 1, 3 * k + 2]).collect();
+        let typical = cell_size(&p, &faces);
+        assert!(typical > 0.0);
+        let answers = |cell: f32| {
+            let mut layers = FaceLayers::new(0.3, cell);
+            let mut out = Vec::new();
+            for (k, &f) in faces.iter().enumerate() {
+                out.push(layers.overlaps(&p, f));
+                if k % 2 == 0 {
+                    layers.insert(&p, f);
+                }
+            }
+            for &f in faces.iter().step_by(4) {
+                layers.remove(&p, f);
+            }
+            out.extend(faces.iter().map(|&f| layers.overlaps(&p, f)));
+            out
+        };
+        let linear = answers(0.0);
+        assert!(linear.iter().any(|&o| o) && linear.iter().any(|&o| !o));
+        for cell in [
+            typical * 0.01,
+            typical * 0.5,
+            typical,
+            typical * 4.0,
+            100.0,
+            f32::NAN,
+        ] {
+            assert_eq!(answers(cell), linear, "cell {cell}");
+        }
     }
 
     #[test]

@@ -195,7 +195,7 @@ impl BudgetRule {
         (self.ln_vertices(features).exp().round() as usize).clamp(MIN_BUDGET.min(max), max)
     }
 
-    /// R^2 of the rule's `ln V` (unclamped) against the `(features, vertex count)` pairs' in
+    /// R^2 of the rule's `ln V` (unclamped) against the `(features, vertex count)` pairs, in
     /// log space: 1 for a perfect rule, 0 for one no better than their mean, below 0 for a
     /// worse one (a rule fitted elsewhere, scored on held-out meshes). `None` without examples.
     pub fn r_squared_log(&self, examples: &[(ShapeFeatures, usize)]) -> Option<f64> {

@@ -20,7 +20,7 @@
 use burn::tensor::{Device, Int, Tensor, TensorData};
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
-use web_time::Instant;
+use web_time::{Duration, Instant};
 
 use crate::Mesh;
 use crate::eval::metrics::chamfer_hausdorff;
@@ -249,6 +249,7 @@ pub struct Generator<'a> {
     pub device: &'a Device,
 }
 
+#[derive(Clone)]
 struct Conditioned {
     to_input: Normalization,
     /// The input in the model frame, where the token positions are drawn.
@@ -367,26 +368,25 @@ impl Generator<'_> {
                 .collect());
         }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
-        let slots = inputs
+        let started = Instant::now();
+        let conditioned = self.condition_all(inputs, opts)?;
+        let conditioning = started.elapsed();
+        let slots: Vec<usize> = conditioned
             .iter()
-            .zip(&seeds)
-            .map(|(points, &seed)| {
-                let budget = self.condition(points, opts, seed)?.budget;
-                Ok(self.vae_config.slots_for(budget))
-            })
-            .collect::<Result<Vec<usize>, GenerateError>>()?;
+            .map(|c| self.vae_config.slots_for(c.budget))
+            .collect();
         let mut lengths = slots.clone();
         lengths.sort_unstable();
         lengths.dedup();
         if lengths.len() == 1 {
-            return self.generate_batch(inputs, &seeds, opts, on_step);
+            return self.generate_batch(conditioned, &seeds, opts, conditioning, on_step);
         }
         let mut out: Vec<Option<Generated>> = (0..inputs.len()).map(|_| None).collect();
         for len in lengths {
             let members: Vec<usize> = (0..inputs.len()).filter(|&k| slots[k] == len).collect();
-            let group: Vec<Vec<Vec3>> = members.iter().map(|&k| inputs[k].clone()).collect();
+            let group: Vec<Conditioned> = members.iter().map(|&k| conditioned[k].clone()).collect();
             let group_seeds: Vec<u64> = members.iter().map(|&k| seeds[k]).collect();
-            let done = self.generate_batch(&group, &group_seeds, opts, on_step)?;
+            let done = self.generate_batch(group, &group_seeds, opts, conditioning, on_step)?;
             for (k, g) in members.into_iter().zip(done) {
                 out[k] = Some(g);
             }
@@ -397,16 +397,14 @@ impl Generator<'_> {
             .collect())
     }
 
-    /// [`Self::generate`] for inputs that share one length, input `k` seeded by `seeds[k]`.
-    fn generate_batch(
+    /// Stage 2: the latents of a prepared batch, read back (which ends the stage on
+    /// asynchronous backends). `on_step(step, steps)` as in [`Self::generate`].
+    pub fn sample(
         &self,
-        inputs: &[Vec<Vec3>],
-        seeds: &[u64],
+        prepared: &Prepared,
         opts: &GenerateOptions,
         on_step: &mut dyn FnMut(usize, usize) -> bool,
-    ) -> Result<Vec<Generated>, GenerateError> {
-        let mut prepared = self.prepare_seeded(inputs, seeds, opts)?;
-        let started = Instant::now();
+    ) -> Result<Tensor<3>, GenerateError> {
         let latents = sample(
             self.dit,
             prepared.noise.clone(),
@@ -417,8 +415,22 @@ impl Generator<'_> {
             opts.solver,
             &mut |i, n, _| on_step(i, n),
         )?;
-        // Reading the latents back ends the sampling stage on asynchronous backends.
-        let latents = Tensor::<3>::from_data(read(latents)?, self.device);
+        Ok(Tensor::<3>::from_data(read(latents)?, self.device))
+    }
+
+    /// [`Self::generate`] for conditioned inputs that share one length, input `k` seeded by
+    /// `seeds[k]`; conditioning them took `conditioning`.
+    fn generate_batch(
+        &self,
+        conditioned: Vec<Conditioned>,
+        seeds: &[u64],
+        opts: &GenerateOptions,
+        conditioning: Duration,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
+        let mut prepared = self.prepare_conditioned(conditioned, seeds, opts, conditioning)?;
+        let started = Instant::now();
+        let latents = self.sample(&prepared, opts, on_step)?;
         prepared.times.sample_s = started.elapsed().as_secs_f64();
 
         let started = Instant::now();
@@ -461,16 +473,20 @@ impl Generator<'_> {
         opts: &GenerateOptions,
     ) -> Result<Prepared, GenerateError> {
         check_samples(opts.samples)?;
+        let started = Instant::now();
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
-        self.prepare_seeded(inputs, &seeds, opts)
+        let conditioned = self.condition_all(inputs, opts)?;
+        self.prepare_conditioned(conditioned, &seeds, opts, started.elapsed())
     }
 
-    /// [`Self::prepare`] with input `k` seeded by `seeds[k]`.
-    fn prepare_seeded(
+    /// [`Self::prepare`] for conditioned inputs, input `k` seeded by `seeds[k]`; conditioning
+    /// them took `conditioning`, which the stage's time includes.
+    fn prepare_conditioned(
         &self,
-        inputs: &[Vec<Vec3>],
+        conditioned: Vec<Conditioned>,
         seeds: &[u64],
         opts: &GenerateOptions,
+        conditioning: Duration,
     ) -> Result<Prepared, GenerateError> {
         let started = Instant::now();
         let (vae, dit) = (self.vae_config, self.dit_config);
@@ -484,15 +500,10 @@ impl Generator<'_> {
         if opts.steps == 0 {
             return Err(SampleError::NoSteps.into());
         }
-        if inputs.is_empty() {
+        if conditioned.is_empty() {
             return Err(GenerateError::NoPoints);
         }
-        let conditioned = inputs
-            .iter()
-            .zip(seeds)
-            .map(|(points, &seed)| self.condition(points, opts, seed))
-            .collect::<Result<Vec<_>, _>>()?;
-        let b = inputs.len();
+        let b = conditioned.len();
         let slots = conditioned
             .iter()
             .map(|c| vae.slots_for(c.budget))
@@ -535,7 +546,7 @@ impl Generator<'_> {
             cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
             condition,
             times: StageTimes {
-                condition_s: started.elapsed().as_secs_f64(),
+                condition_s: (conditioning + started.elapsed()).as_secs_f64(),
                 ..Default::default()
             },
         })
@@ -653,15 +664,34 @@ impl Generator<'_> {
             .collect())
     }
 
+    /// [`Self::condition`] for every input; an input equal to an earlier one (the candidates
+    /// of one input) shares its conditioning instead of measuring it again.
+    fn condition_all(
+        &self,
+        inputs: &[Vec<Vec3>],
+        opts: &GenerateOptions,
+    ) -> Result<Vec<Conditioned>, GenerateError> {
+        let mut conditioned: Vec<Conditioned> = Vec::with_capacity(inputs.len());
+        for (k, points) in inputs.iter().enumerate() {
+            let c = match inputs[..k].iter().position(|earlier| earlier == points) {
+                Some(j) => conditioned[j].clone(),
+                None => self.condition(points, opts)?,
+            };
+            conditioned.push(c);
+        }
+        Ok(conditioned)
+    }
+
+    /// The model frame, shape features and vertex budget of one input: a function of the
+    /// input and `opts` alone, so every candidate and every seed gets the same budget.
     fn condition(
         &self,
         points: &[Vec3],
         opts: &GenerateOptions,
-        seed: u64,
     ) -> Result<Conditioned, GenerateError> {
         let vae = self.vae_config;
         let (model_points, to_input) = to_model_frame(points)?;
-        let features = shape_features(&model_points, seed);
+        let features = shape_features(&model_points, FEATURE_SEED);
         let max = vae.num_vertices;
         let budget = match (opts.vertices, opts.faces) {
             (Some(_), Some(_)) => return Err(GenerateError::VerticesAndFaces),
@@ -740,6 +770,11 @@ pub fn budget_for_faces(faces: usize, max: usize) -> Result<usize, GenerateError
     Ok(((faces as f32 / FACES_PER_VERTEX).round() as usize).clamp(MIN_BUDGET, max))
 }
 
+/// The seed of the neighbourhoods [`shape_features`] samples. Fixed, so that the default
+/// budget is a property of the input: with a seed per candidate, the candidates of one input
+/// could get different budgets, even different length buckets.
+const FEATURE_SEED: u64 = 0;
+
 /// One input's mesh after [`Generator::extract`]'s stages, in its input's frame.
 struct Finished {
     mesh: Mesh,
@@ -752,18 +787,18 @@ struct Finished {
     fit_s: f64,
 }
 
-/// Extraction, fitting, completion and closing of one decoded row (stages 4 and 5).
-fn finish_one(
-    decoded: &DecodedVertices<'_>,
-    c: &Conditioned,
-    opts: &GenerateOptions,
-) -> Result<Finished, GenerateError> {
-    let started = Instant::now();
-    // Completion may use vertices the model gave no face, so they stay until then;
-    // and the model's faces are chosen by their margins under completion's overlap
-    // test (completion keeps them in that order, first).
-    let completing = opts.complete.enabled && opts.extract.method == ExtractMethod::Manifold;
-    let extract = if completing {
+/// Whether stage 5 completes the surface: only after the manifold method.
+fn completes(opts: &GenerateOptions) -> bool {
+    opts.complete.enabled && opts.extract.method == ExtractMethod::Manifold
+}
+
+/// The extraction options stage 4 runs with for each candidate: `opts.extract` (already at
+/// the VAE's tau, [`ExtractOptions::at_tau_of`]), adjusted for completion when it follows.
+pub fn candidate_extraction(opts: &GenerateOptions) -> ExtractOptions {
+    // Completion may use vertices the model gave no face, so they stay until then; and the
+    // model's faces are chosen by their margins under completion's overlap test (completion
+    // keeps them in that order, first).
+    if completes(opts) {
         ExtractOptions {
             compact: false,
             overlap_tolerance: opts.complete.overlap_tolerance,
@@ -771,8 +806,18 @@ fn finish_one(
         }
     } else {
         opts.extract.clone()
-    };
-    let (mut mesh, report) = extract_from_decoded(decoded, &extract)?;
+    }
+}
+
+/// Extraction, fitting, completion and closing of one decoded row (stages 4 and 5).
+fn finish_one(
+    decoded: &DecodedVertices<'_>,
+    c: &Conditioned,
+    opts: &GenerateOptions,
+) -> Result<Finished, GenerateError> {
+    let started = Instant::now();
+    let completing = completes(opts);
+    let (mut mesh, report) = extract_from_decoded(decoded, &candidate_extraction(opts))?;
     let fitting = Instant::now();
     let fit = fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_points, &opts.fit);
     let mut complete = CompleteReport::default();
