@@ -645,7 +645,8 @@ pub fn bench_pair_head(args: BenchPairHeadArgs) -> Result<()> {
         &models.generator(&dev),
         &points,
         &opts,
-        Duration::from_secs_f64(args.seconds),
+        Duration::try_from_secs_f64(args.seconds)
+            .map_err(|_| BadInput(format!("--seconds {} is not a duration", args.seconds)))?,
     )
     .map_err(|e| BadInput(e.to_string()))?;
     println!(

@@ -26,7 +26,8 @@ use crate::extract::{
 };
 use crate::model::vae::spacetime_distances;
 use crate::pipeline::generate::{
-    DeviceEdges, GenerateError, GenerateOptions, Generator, candidate_extraction, kept_slots,
+    DeviceEdges, GenerateError, GenerateOptions, Generator, candidate_extraction, check_samples,
+    kept_slots,
 };
 
 /// How the figures are taken, recorded in the report so it reads alone.
@@ -108,7 +109,8 @@ pub fn trace_pair_head_extraction(
         return Err(PairHeadTraceError::NoPairHead);
     }
     // Generation's candidates: the input once per sample, seeded seed + k.
-    let inputs = vec![points.to_vec(); opts.samples.max(1)];
+    check_samples(opts.samples)?;
+    let inputs = vec![points.to_vec(); opts.samples];
     let one = GenerateOptions {
         samples: 1,
         ..opts.clone()

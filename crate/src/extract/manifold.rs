@@ -345,7 +345,7 @@ impl<'a> Surface<'a> {
         let face = self.faces[id as usize];
         self.alive[id as usize] = false;
         self.vertex_sets.remove(&sorted_face(face));
-        self.layers.remove(self.positions, face);
+        self.layers.remove(face);
         for e in topology::face_edges(face) {
             let slots = self.on_edge.get_mut(&e).expect("edge of a face");
             for s in slots.iter_mut() {

@@ -76,21 +76,23 @@ pub struct FaceLayers {
     cell: f32,
     /// Every face ever inserted, by id; a removed one stays, out of `live` and the grid.
     entries: Vec<Entry>,
-    /// The id of each face inserted and not removed (vertices in insertion order).
-    live: FxHashMap<[u32; 3], u32>,
+    /// The ids of each face inserted and not removed (vertices in insertion order): one per
+    /// insertion, so a face inserted twice stays until removed twice.
+    live: FxHashMap<[u32; 3], Vec<u32>>,
     grid: FxHashMap<IVec3, Vec<u32>>,
     oversize: Vec<u32>,
-    /// `stamps[id]` is the last query that read face `id` (`query` counts them), so a face
-    /// in several cells is tested once per query without sorting the ids.
-    stamps: RefCell<Vec<u32>>,
-    query: Cell<u32>,
+    /// `stamps[id]` is the last query that read face `id` (`query` counts them from 1; 0 is
+    /// never a query, and a u64 does not wrap), so a face in several cells is tested once per
+    /// query without sorting the ids.
+    stamps: RefCell<Vec<u64>>,
+    query: Cell<u64>,
 }
 
 impl FaceLayers {
     /// No faces yet; `tolerance` is the largest distance from a face's plane, in its longest
     /// edges, at which another face counts as lying on it (0 or less: nothing ever overlaps).
     /// `cell` is the grid's cell side, about a typical face's size ([`cell_size`]); any value
-    /// gives the same answers, only slower when far off.
+    /// gives the same answers (0 or less, NaN or infinite: no grid), only slower when far off.
     pub fn new(tolerance: f32, cell: f32) -> Self {
         Self {
             tolerance,
@@ -119,12 +121,16 @@ impl FaceLayers {
         if self.cell <= 0.0 {
             return None;
         }
-        // Float-to-int casts saturate, so far-off coordinates cannot wrap around.
+        // Float-to-int casts saturate, and each axis's span is bounded before the product is
+        // taken, so no coordinate, however far off, can overflow the count.
         let (a, b) = (
             (lo / self.cell).floor().as_ivec3(),
             (hi / self.cell).floor().as_ivec3(),
         );
         let span = (b.as_i64vec3() - a.as_i64vec3() + 1).max(glam::I64Vec3::ONE);
+        if span.max_element() > MAX_CELLS {
+            return None;
+        }
         (span.x * span.y * span.z <= MAX_CELLS).then_some((a, b))
     }
 
@@ -153,7 +159,7 @@ impl FaceLayers {
             hi,
             normal,
         });
-        self.live.insert(face, id);
+        self.live.entry(face).or_default().push(id);
         match self.cells(lo, hi) {
             Some((a, b)) => {
                 Self::for_cells(a, b, |k| self.grid.entry(k).or_default().push(id));
@@ -162,11 +168,15 @@ impl FaceLayers {
         }
     }
 
-    /// Forgets an accepted `face` (its vertices in the order it was inserted with).
-    pub fn remove(&mut self, _positions: &[Vec3], face: [u32; 3]) {
-        let Some(id) = self.live.remove(&face) else {
+    /// Forgets an accepted `face` (its vertices in the order it was inserted with), once.
+    pub fn remove(&mut self, face: [u32; 3]) {
+        let Some(ids) = self.live.get_mut(&face) else {
             return;
         };
+        let id = ids.pop().expect("a live face has an id");
+        if ids.is_empty() {
+            self.live.remove(&face);
+        }
         let Entry { lo, hi, .. } = self.entries[id as usize];
         match self.cells(lo, hi) {
             Some((a, b)) => Self::for_cells(a, b, |k| {
@@ -181,14 +191,10 @@ impl FaceLayers {
     /// Whether `test` holds for a live face whose box meets the box `lo..hi`, each face
     /// tested at most once.
     fn any_near(&self, lo: Vec3, hi: Vec3, test: impl Fn(&Entry) -> bool) -> bool {
-        let query = self.query.get().wrapping_add(1);
+        let query = self.query.get() + 1;
         self.query.set(query);
         let mut stamps = self.stamps.borrow_mut();
-        if query == 0 {
-            // The counter wrapped: forget every stamp so none can look current.
-            stamps.fill(u32::MAX);
-        }
-        stamps.resize(self.entries.len(), u32::MAX);
+        stamps.resize(self.entries.len(), 0);
         let mut read = |id: u32| {
             let stamp = &mut stamps[id as usize];
             if *stamp == query {
@@ -217,7 +223,7 @@ impl FaceLayers {
                 }
                 false
             }
-            None => self.live.values().any(|&id| read(id)),
+            None => self.live.values().flatten().any(|&id| read(id)),
         }
     }
 
@@ -322,7 +328,7 @@ mod tests {
             !layers.overlaps(&p, [9, 10, 11]),
             "a surface a whole edge away"
         );
-        layers.remove(&p, [0, 1, 2]);
+        layers.remove([0, 1, 2]);
         assert!(!layers.overlaps(&p, [3, 4, 5]));
         assert!(!FaceLayers::new(0.0, 1.0).overlaps(&p, [3, 4, 5]));
     }
@@ -350,8 +356,15 @@ mod tests {
                 }
             }
             for &f in faces.iter().step_by(4) {
-                layers.remove(&p, f);
+                layers.remove(f);
             }
+            // A face inserted twice stays until it is removed twice.
+            let twice = faces[1];
+            layers.insert(&p, twice);
+            layers.insert(&p, twice);
+            layers.remove(twice);
+            out.extend(faces.iter().map(|&f| layers.overlaps(&p, f)));
+            layers.remove(twice);
             out.extend(faces.iter().map(|&f| layers.overlaps(&p, f)));
             out
         };
@@ -367,6 +380,26 @@ mod tests {
         ] {
             assert_eq!(answers(cell), linear, "cell {cell}");
         }
+    }
+
+    /// A face millions of cells across in every axis goes to the list every query reads:
+    /// counting its cells cannot overflow, and nothing walks them.
+    #[test]
+    fn a_huge_face_neither_overflows_nor_walks_its_cells() {
+        let p = vec![
+            Vec3::ZERO,
+            Vec3::new(4_194_303.0, 2_097_151.0, 0.0),
+            Vec3::new(0.0, 2_097_151.0, 2_097_151.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(2.0, 1.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+        ];
+        let mut layers = FaceLayers::new(0.2, 1.0);
+        layers.insert(&p, [0, 1, 2]);
+        layers.insert(&p, [3, 4, 5]);
+        assert!(!layers.overlaps(&p, [0, 1, 2]));
+        layers.remove([0, 1, 2]);
+        assert!(!layers.overlaps(&p, [0, 1, 2]));
     }
 
     #[test]

@@ -100,7 +100,8 @@ pub enum GenerateError {
 /// Most candidates [`GenerateOptions::samples`] may ask for (each costs a whole generation).
 pub const MAX_SAMPLES: usize = 16;
 
-fn check_samples(samples: usize) -> Result<(), GenerateError> {
+/// [`GenerateError::Samples`] unless `samples` is in `1..=MAX_SAMPLES`.
+pub fn check_samples(samples: usize) -> Result<(), GenerateError> {
     if (1..=MAX_SAMPLES).contains(&samples) {
         Ok(())
     } else {
@@ -256,6 +257,9 @@ struct Conditioned {
     model_points: Vec<Vec3>,
     budget: usize,
     features: ShapeFeatures,
+    /// Time spent conditioning this input (zero for a candidate that shares an earlier
+    /// one's), so each batch's stage time counts its own inputs.
+    took: Duration,
 }
 
 /// A batch after conditioning: the sampler's inputs, and what extraction needs afterwards.
@@ -343,6 +347,7 @@ impl Generator<'_> {
             return Ok(Vec::new());
         }
         check_samples(opts.samples)?;
+        self.check_run(opts)?;
         if opts.samples > 1 {
             // Every candidate is an input of its own: input k's candidates sit at k, k + n, ...
             let n = inputs.len();
@@ -368,9 +373,7 @@ impl Generator<'_> {
                 .collect());
         }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
-        let started = Instant::now();
         let conditioned = self.condition_all(inputs, opts)?;
-        let conditioning = started.elapsed();
         let slots: Vec<usize> = conditioned
             .iter()
             .map(|c| self.vae_config.slots_for(c.budget))
@@ -379,14 +382,14 @@ impl Generator<'_> {
         lengths.sort_unstable();
         lengths.dedup();
         if lengths.len() == 1 {
-            return self.generate_batch(conditioned, &seeds, opts, conditioning, on_step);
+            return self.generate_batch(conditioned, &seeds, opts, on_step);
         }
         let mut out: Vec<Option<Generated>> = (0..inputs.len()).map(|_| None).collect();
         for len in lengths {
             let members: Vec<usize> = (0..inputs.len()).filter(|&k| slots[k] == len).collect();
             let group: Vec<Conditioned> = members.iter().map(|&k| conditioned[k].clone()).collect();
             let group_seeds: Vec<u64> = members.iter().map(|&k| seeds[k]).collect();
-            let done = self.generate_batch(group, &group_seeds, opts, conditioning, on_step)?;
+            let done = self.generate_batch(group, &group_seeds, opts, on_step)?;
             for (k, g) in members.into_iter().zip(done) {
                 out[k] = Some(g);
             }
@@ -419,16 +422,15 @@ impl Generator<'_> {
     }
 
     /// [`Self::generate`] for conditioned inputs that share one length, input `k` seeded by
-    /// `seeds[k]`; conditioning them took `conditioning`.
+    /// `seeds[k]`.
     fn generate_batch(
         &self,
         conditioned: Vec<Conditioned>,
         seeds: &[u64],
         opts: &GenerateOptions,
-        conditioning: Duration,
         on_step: &mut dyn FnMut(usize, usize) -> bool,
     ) -> Result<Vec<Generated>, GenerateError> {
-        let mut prepared = self.prepare_conditioned(conditioned, seeds, opts, conditioning)?;
+        let mut prepared = self.prepare_conditioned(conditioned, seeds)?;
         let started = Instant::now();
         let latents = self.sample(&prepared, opts, on_step)?;
         prepared.times.sample_s = started.elapsed().as_secs_f64();
@@ -473,22 +475,14 @@ impl Generator<'_> {
         opts: &GenerateOptions,
     ) -> Result<Prepared, GenerateError> {
         check_samples(opts.samples)?;
-        let started = Instant::now();
+        self.check_run(opts)?;
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         let conditioned = self.condition_all(inputs, opts)?;
-        self.prepare_conditioned(conditioned, &seeds, opts, started.elapsed())
+        self.prepare_conditioned(conditioned, &seeds)
     }
 
-    /// [`Self::prepare`] for conditioned inputs, input `k` seeded by `seeds[k]`; conditioning
-    /// them took `conditioning`, which the stage's time includes.
-    fn prepare_conditioned(
-        &self,
-        conditioned: Vec<Conditioned>,
-        seeds: &[u64],
-        opts: &GenerateOptions,
-        conditioning: Duration,
-    ) -> Result<Prepared, GenerateError> {
-        let started = Instant::now();
+    /// The checks that need no input: the models fit together and there is a step to take.
+    fn check_run(&self, opts: &GenerateOptions) -> Result<(), GenerateError> {
         let (vae, dit) = (self.vae_config, self.dit_config);
         let (l, d) = (vae.num_latents, vae.latent_dim);
         if (l, d) != (dit.num_latents, dit.latent_dim) {
@@ -500,10 +494,24 @@ impl Generator<'_> {
         if opts.steps == 0 {
             return Err(SampleError::NoSteps.into());
         }
+        Ok(())
+    }
+
+    /// [`Self::prepare`] for conditioned inputs (after [`Self::check_run`]), input `k` seeded
+    /// by `seeds[k]`; the stage's time includes their conditioning.
+    fn prepare_conditioned(
+        &self,
+        conditioned: Vec<Conditioned>,
+        seeds: &[u64],
+    ) -> Result<Prepared, GenerateError> {
+        let started = Instant::now();
+        let (vae, dit) = (self.vae_config, self.dit_config);
+        let (l, d) = (vae.num_latents, vae.latent_dim);
         if conditioned.is_empty() {
             return Err(GenerateError::NoPoints);
         }
         let b = conditioned.len();
+        let conditioned_in: Duration = conditioned.iter().map(|c| c.took).sum();
         let slots = conditioned
             .iter()
             .map(|c| vae.slots_for(c.budget))
@@ -546,7 +554,7 @@ impl Generator<'_> {
             cond: Tensor::from_data(TensorData::new(cond, [b, 1]), self.device),
             condition,
             times: StageTimes {
-                condition_s: (conditioning + started.elapsed()).as_secs_f64(),
+                condition_s: (conditioned_in + started.elapsed()).as_secs_f64(),
                 ..Default::default()
             },
         })
@@ -674,7 +682,10 @@ impl Generator<'_> {
         let mut conditioned: Vec<Conditioned> = Vec::with_capacity(inputs.len());
         for (k, points) in inputs.iter().enumerate() {
             let c = match inputs[..k].iter().position(|earlier| earlier == points) {
-                Some(j) => conditioned[j].clone(),
+                Some(j) => Conditioned {
+                    took: Duration::ZERO,
+                    ..conditioned[j].clone()
+                },
                 None => self.condition(points, opts)?,
             };
             conditioned.push(c);
@@ -689,6 +700,7 @@ impl Generator<'_> {
         points: &[Vec3],
         opts: &GenerateOptions,
     ) -> Result<Conditioned, GenerateError> {
+        let started = Instant::now();
         let vae = self.vae_config;
         let (model_points, to_input) = to_model_frame(points)?;
         let features = shape_features(&model_points, FEATURE_SEED);
@@ -707,6 +719,7 @@ impl Generator<'_> {
             model_points,
             budget,
             features,
+            took: started.elapsed(),
         })
     }
 }
