@@ -15,7 +15,6 @@
 
 use std::time::Duration;
 
-use burn::tensor::Tensor;
 use glam::Vec3;
 use serde::Serialize;
 
@@ -27,7 +26,7 @@ use crate::extract::{
 use crate::model::vae::spacetime_distances;
 use crate::pipeline::generate::{
     DeviceEdges, GenerateError, GenerateOptions, Generator, candidate_extraction, check_samples,
-    kept_slots,
+    kept_slots, read_vec, vec3s,
 };
 
 /// How the figures are taken, recorded in the report so it reads alone.
@@ -126,16 +125,16 @@ pub fn trace_pair_head_extraction(
         return Err(PairHeadTraceError::NoPairHead);
     };
     let n = prepared.slots;
-    let mask_logits = read(out.mask_logits)?;
-    let positions = read(out.positions)?;
-    let normals = read(out.normals)?;
+    let mask_logits = read_vec(out.mask_logits)?;
+    let positions = read_vec(out.positions)?;
+    let normals = read_vec(out.normals)?;
     let dim = embeddings.dims()[2];
-    let spacetime = read(spacetime_distances(embeddings.clone()))?;
+    let spacetime = read_vec(spacetime_distances(embeddings.clone()))?;
     let refined = generator
         .vae
         .edge_distances(embeddings.clone(), features, &kept_slots(&mask_logits, n))
         .map_err(GenerateError::Readback)?;
-    let embeddings = read(embeddings)?;
+    let embeddings = read_vec(embeddings)?;
 
     let extract = candidate_extraction(&GenerateOptions {
         extract: opts.extract.at_tau_of(generator.vae_config),
@@ -144,13 +143,10 @@ pub fn trace_pair_head_extraction(
     let mut candidates = Vec::with_capacity(inputs.len());
     for k in 0..inputs.len() {
         let rows = k * n..(k + 1) * n;
-        let vec3s = |v: &[f32]| -> Vec<Vec3> {
-            v[rows.start * 3..rows.end * 3]
-                .chunks_exact(3)
-                .map(Vec3::from_slice)
-                .collect()
-        };
-        let (pos, nrm) = (vec3s(&positions), vec3s(&normals));
+        let (pos, nrm) = (
+            vec3s(&positions[rows.start * 3..rows.end * 3]),
+            vec3s(&normals[rows.start * 3..rows.end * 3]),
+        );
         let decoded = |edges| DecodedVertices {
             mask_logits: &mask_logits[rows.clone()],
             positions: &pos,
@@ -213,12 +209,4 @@ fn time_source(
         faces: report.faces,
         timing,
     })
-}
-
-fn read(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
-    t.try_into_data()
-        .map_err(|e| GenerateError::Readback(e.to_string()))?
-        .convert::<f32>()
-        .try_into_vec::<f32>()
-        .map_err(|e| GenerateError::Readback(format!("{e:?}")))
 }

@@ -931,7 +931,7 @@ fn read(t: Tensor<3>) -> Result<TensorData, GenerateError> {
         .map_err(|e| GenerateError::Readback(e.to_string()))
 }
 
-fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
+pub(crate) fn read_vec(t: Tensor<3>) -> Result<Vec<f32>, GenerateError> {
     read(t)?
         .convert::<f32>()
         .try_into_vec::<f32>()
@@ -964,6 +964,6 @@ pub fn read_bits(
         .map_err(|e| GenerateError::Readback(e.to_string()))
 }
 
-fn vec3s(flat: &[f32]) -> Vec<Vec3> {
+pub(crate) fn vec3s(flat: &[f32]) -> Vec<Vec3> {
     flat.chunks_exact(3).map(Vec3::from_slice).collect()
 }
