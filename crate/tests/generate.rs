@@ -480,13 +480,27 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
         },
         ..options(3)
     };
+    // Fitting is judged before sharpening, which moves vertices off the samples and onto
+    // the planes between them.
+    let unsharpened = GenerateOptions {
+        sharpen: meshflow::surface::sharpen::SharpenOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        ..options(3)
+    };
     let before = generator
         .generate(std::slice::from_ref(&points), &raw, &mut |_, _| true)
         .unwrap();
     let after = generator
+        .generate(std::slice::from_ref(&points), &unsharpened, &mut |_, _| {
+            true
+        })
+        .unwrap();
+    let sharpened = generator
         .generate(std::slice::from_ref(&points), &options(3), &mut |_, _| true)
         .unwrap();
-    let (before, after) = (&before[0], &after[0]);
+    let (before, after, sharpened) = (&before[0], &after[0], &sharpened[0]);
     assert_eq!(before.fit.iterations, 0);
     assert_eq!(after.fit.iterations, 3);
     let (d0, d1) = (
@@ -500,24 +514,34 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
         before.close,
         meshflow::surface::close::CloseReport::default()
     );
-    // Hole closing only adds to the same completed mesh, and can be turned off.
+    // Hole closing only adds to the same completed mesh, and can be turned off (compared
+    // before sharpening, which changes the faces).
+    let closed = after;
     let open = GenerateOptions {
         close: meshflow::surface::close::CloseOptions {
             enabled: false,
             ..Default::default()
         },
-        ..options(3)
+        ..unsharpened
     };
     let open = &generator
         .generate(std::slice::from_ref(&points), &open, &mut |_, _| true)
         .unwrap()[0];
     assert_eq!(open.close, meshflow::surface::close::CloseReport::default());
-    assert!(after.topology.holes <= open.topology.holes);
+    assert!(closed.topology.holes <= open.topology.holes);
     assert_eq!(
-        after.mesh.faces.len(),
-        open.mesh.faces.len() + after.close.faces_added
+        closed.mesh.faces.len(),
+        open.mesh.faces.len() + closed.close.faces_added
     );
-    for g in [before, after, open] {
+    // Sharpening keeps the holes it was given.
+    assert_eq!(sharpened.topology.holes, closed.topology.holes);
+    assert_eq!(closed.sharpen, Default::default());
+    assert!(
+        sharpened.sharpen.refined_faces > 0,
+        "{:?}",
+        sharpened.sharpen
+    );
+    for g in [before, after, sharpened, open] {
         g.mesh.validate().unwrap();
         assert_eq!(g.topology.non_manifold_edges, 0);
         assert_eq!(g.topology.inconsistent_winding_edges, 0);
@@ -554,10 +578,19 @@ fn more_samples_keep_the_candidate_closest_to_the_input_with_holes_counted() {
             .unwrap()
             .remove(0)
     };
+    // The choice is made before sharpening (which only the kept mesh gets), so it is
+    // compared on unsharpened meshes.
+    let base = GenerateOptions {
+        sharpen: meshflow::surface::sharpen::SharpenOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        ..options(3)
+    };
     let kept = run(&GenerateOptions {
         samples: 4,
         seed: 10,
-        ..options(3)
+        ..base.clone()
     });
     // Candidate j is the one-sample mesh of seed 10 + j; the kept one is among them, with the
     // smallest score: Chamfer distance of its surface to the input points, times one plus
@@ -566,7 +599,7 @@ fn more_samples_keep_the_candidate_closest_to_the_input_with_holes_counted() {
         .map(|j| {
             run(&GenerateOptions {
                 seed: 10 + j,
-                ..options(3)
+                ..base.clone()
             })
         })
         .collect();

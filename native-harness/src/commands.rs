@@ -150,6 +150,27 @@ pub fn compare(pred: &Path, gt: &Path, samples: usize, seed: u64, json: bool) ->
             println!("  {:<28}{v}", k.replace('_', " "));
         }
     }
+    let sharp = &cmp.sharp;
+    let ecd = sharp
+        .edge_chamfer_x100
+        .map_or("none (neither has sharp edges)".to_string(), |d| {
+            format!("{d:.3}")
+        });
+    println!(
+        "  sharp edges (> 30 deg)      {} predicted, {} ground truth",
+        sharp.pred_sharp_edges, sharp.gt_sharp_edges
+    );
+    println!("  edge chamfer x100           {ecd}");
+    println!(
+        "  edge f-score @0.01          {:.4} (precision {:.4}, recall {:.4})",
+        sharp.edge_f_score.f_score, sharp.edge_f_score.precision, sharp.edge_f_score.recall
+    );
+    println!(
+        "  faces                       {} predicted, {} ground truth ({:.2}x)",
+        cmp.pred_topology.faces,
+        cmp.gt_topology.faces,
+        cmp.pred_topology.faces as f64 / cmp.gt_topology.faces.max(1) as f64
+    );
     print_topology("prediction topology", &cmp.pred_topology);
     print_topology("ground-truth topology", &cmp.gt_topology);
     Ok(())

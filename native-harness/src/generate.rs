@@ -26,6 +26,7 @@ use meshflow::pipeline::shipped::ShippedModels;
 use meshflow::surface::close::CloseOptions;
 use meshflow::surface::complete::CompleteOptions;
 use meshflow::surface::fit::FitOptions;
+use meshflow::surface::sharpen::SharpenOptions;
 use serde::Serialize;
 
 use crate::BadInput;
@@ -160,6 +161,21 @@ pub struct SamplingArgs {
     /// this many point spacings (0 = no test).
     #[arg(long, default_value_t = CloseOptions::default().max_gap)]
     close_max_gap: f32,
+    /// Leave the surface as fitted: do not sharpen it against the input points' planes
+    /// (creases snapped, flat regions merged into few faces; manifold extraction only).
+    #[arg(long)]
+    no_sharpen: bool,
+    /// Sharpening: RMS distance a collapse below the incoming face count may cost, as a
+    /// share of the input's longest side.
+    #[arg(long, default_value_t = SharpenOptions::default().flat_tolerance)]
+    sharpen_tolerance: f64,
+    /// Sharpening: the same tolerance in multiples of the input points' own RMS spread off
+    /// their planes (their noise); the larger of the two holds.
+    #[arg(long, default_value_t = SharpenOptions::default().noise_tolerance)]
+    sharpen_noise_tolerance: f64,
+    /// Sharpening: rounds of splitting, placing, flipping, collapsing and snapping.
+    #[arg(long, default_value_t = SharpenOptions::default().passes)]
+    sharpen_passes: usize,
     #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
     backend: BackendKind,
 }
@@ -204,6 +220,13 @@ impl SamplingArgs {
                 enabled: !self.no_close_holes,
                 max_edges: self.close_max_edges,
                 max_gap: self.close_max_gap,
+            },
+            sharpen: SharpenOptions {
+                enabled: !self.no_sharpen,
+                flat_tolerance: self.sharpen_tolerance,
+                noise_tolerance: self.sharpen_noise_tolerance,
+                passes: self.sharpen_passes,
+                ..SharpenOptions::default()
             },
         }
     }
@@ -253,6 +276,7 @@ struct GenerateReport<'a> {
     fit: &'a meshflow::surface::fit::FitReport,
     complete: &'a meshflow::surface::complete::CompleteReport,
     close: &'a meshflow::surface::close::CloseReport,
+    sharpen: &'a meshflow::surface::sharpen::SharpenReport,
     topology: &'a meshflow::geometry::topology::TopologyReport,
 }
 
@@ -375,6 +399,7 @@ fn report(
             fit: &g.fit,
             complete: &g.complete,
             close: &g.close,
+            sharpen: &g.sharpen,
             topology: &g.topology,
         };
         println!("{}", serde_json::to_string(&r)?);
@@ -420,6 +445,26 @@ fn report(
             "  holes closed: {} ({} faces, {} vertices added; --no-close-holes keeps them \
              open)",
             c.holes_closed, c.faces_added, c.vertices_added
+        );
+    }
+    let sh = &g.sharpen;
+    if sh.refined_faces > 0 && !sh.accepted {
+        println!(
+            "  sharpening gave a mesh farther from the input points ({} faces); kept the fitted one",
+            sh.faces_out
+        );
+    } else if sh.faces_in > 0 && sh.refined_faces > 0 {
+        println!(
+            "  sharpened: {} -> {} faces ({} split, {} crease and {} corner vertices, {} flips, \
+             {} collapses; {:.0}% of the model's edges kept; --no-sharpen turns it off)",
+            sh.faces_in,
+            sh.faces_out,
+            sh.refined_faces,
+            sh.crease_vertices,
+            sh.corner_vertices,
+            sh.flips,
+            sh.collapses,
+            100.0 * sh.model_edges_kept
         );
     }
     println!(
@@ -500,11 +545,16 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
     bar.finish_and_clear();
     let line = |what: &str, s: &SurfaceSummary| {
         println!(
-            "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  faces {:7.1}  holes {:6.2}  \
-             non-manifold {:6.2}  components {:6.2}  no faces {}",
+            "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  NC {:.4}  ECD x100 {:7.3}  EF1 {:.4}  \
+             faces {:7.1} ({:.2}x gt)  holes {:6.2}  non-manifold {:6.2}  components {:6.2}  \
+             no faces {}",
             s.chamfer_x100,
             s.hausdorff_x100,
+            s.normal_consistency,
+            s.edge_chamfer_x100,
+            s.edge_f_score,
             s.faces_out,
+            s.faces_ratio,
             s.holes,
             s.non_manifold_edges,
             s.components,

@@ -460,7 +460,9 @@ const NATIVE_CLI = join(
   process.env.CARGO_TARGET_DIR ?? join(process.env.HOME, '.cache/meshflow/target'),
   'release/meshflow',
 );
-const SAME_AS_NATIVE = { steps: 4, vertices: 160, seed: 7, samples: 1 };
+// Sharpening off: its collapses are ordered by float costs, so the GPU's rounding of the
+// positions (within 1e-4 below) can change which collapse goes first; it runs in its own check.
+const SAME_AS_NATIVE = { steps: 4, vertices: 160, seed: 7, samples: 1, sharpen: false };
 let wasmMeshes = null;
 
 await check('the npm package is publishable: `npm publish --dry-run` passes with the f16 weights', async () => {
@@ -523,6 +525,9 @@ await check('the npm package imports and generates the way a user would', async 
              candidates.push({ faces: one.indices.length / 3, dv });
              if (keptIs < 0 && sameFaces && dv < 1e-3) keptIs = j;
            }
+           const sharp = await model.generate(points, { ...options, sharpen: true });
+           let badSharpen = '';
+           try { await model.generate(points, { ...options, sharpen: 'yes' }); } catch (e) { badSharpen = e.message; }
            const byDefault = await model.generate(points, { steps: 1, vertices: 64 });
            const heun = await model.generate(points, { ...options, steps: 2, solver: 'heun' });
            let badSolver = '';
@@ -532,6 +537,9 @@ await check('the npm package imports and generates the way a user would', async 
            window.__options = { both, tooFew, solver: { heunFaces: heun.indices.length / 3, badSolver }, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
              samples: { keptIs, candidates, faces: best.indices.length / 3, badSamples, byDefault: byDefault.report.samples },
              holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose },
+             sharpen: { faces: sharp.indices.length / 3, nonManifold: sharp.report.topology.non_manifold_edges,
+               inconsistent: sharp.report.topology.inconsistent_winding_edges, holes: sharp.report.topology.holes,
+               refined: sharp.report.sharpen.refined_faces, badSharpen },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
            window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
              nonManifold: filtered.report.topology.non_manifold_edges, refused,
@@ -592,6 +600,11 @@ await check('the npm package imports and generates the way a user would', async 
   // Hole closing is on by default and can be turned off; a non-boolean is a TypeError.
   assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
   assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
+  // Sharpening runs inside wasm too, keeps the mesh manifold and its holes.
+  const sh = o.sharpen;
+  assert(sh.faces > 0 && sh.refined > 0 && sh.nonManifold === 0 && sh.inconsistent === 0 && sh.holes === o.holes.closed,
+    `sharpen: true: ${JSON.stringify(sh)}`);
+  assert(/sharpen must be true or false/.test(sh.badSharpen), `sharpen: 'yes' was not refused: ${sh.badSharpen}`);
   assert(o.byFaces.budget === Math.round(120 / 1.64) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
   assert(o.samples.faces > 0 && o.samples.keptIs >= 0, `samples: 3 kept none of the three candidates: ${JSON.stringify(o.samples)}`);
   console.log(`  samples: 3 kept candidate ${o.samples.keptIs}; one-sample meshes ${JSON.stringify(o.samples.candidates)}`);
@@ -616,7 +629,7 @@ await check('wasm and native give the same mesh for the same seed and input', as
     const { steps, vertices, seed } = SAME_AS_NATIVE;
     // The package loads the half-size weights by default; the native CLI reads them too.
     execFileSync(NATIVE_CLI, ['generate', FIXTURE, '-o', file, '--steps', String(steps), '--vertices',
-      String(vertices), '--seed', String(seed), '--samples', '1', '--backend', nativeBackend, '--weights', 'weights/f16'],
+      String(vertices), '--seed', String(seed), '--samples', '1', '--no-sharpen', '--backend', nativeBackend, '--weights', 'weights/f16'],
     { cwd: ROOT, stdio: 'pipe' });
     const native = glbMesh(readFileSync(file));
     const wasm = wasmMeshes[wasmBackend];

@@ -33,6 +33,8 @@ export interface GenerateReport {
   extract: Record<string, number>;
   /** Holes closed by `closeHoles`, the faces and vertices that added, and holes left open as its walk counts them (`topology.holes` is the figure to report). */
   close: { holes_closed: number; faces_added: number; vertices_added: number; holes_left: number };
+  /** What sharpening did: faces in and out, splits, flips, collapses, crease and corner vertices. */
+  sharpen: Record<string, number>;
 }
 
 export interface GenerateOptions {
@@ -56,6 +58,12 @@ export interface GenerateOptions {
    * a triangulation of the hole's border); with `fit` only. False leaves them open.
    */
   closeHoles?: boolean;
+  /**
+   * Default true: make the kept mesh exact against the input points (flat where they are
+   * flat, creases snapped, flat regions merged into few faces; manifold kept; with the
+   * default extraction only). False returns the fitted, completed mesh as it was.
+   */
+  sharpen?: boolean;
   /** Sampler steps per candidate, default 4 (the paper uses 28 Euler steps). */
   steps?: number;
   /**

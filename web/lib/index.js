@@ -255,12 +255,14 @@ export class Model {
    * the paper's Algorithm 1), `dropNonManifold` (with `'paper'` only: keep at most two faces
    * per edge), `fit` (default true: vertices moved onto the points and the surface completed
    * between them), `closeHoles` (default true: each hole left where the points go on is
-   * closed by a patch that does not fold; with `fit` only), `samples` (default 12: candidates
+   * closed by a patch that does not fold; with `fit` only), `sharpen` (default true: the kept
+   * mesh made flat where the points are flat and creased where they crease, flat regions
+   * merged into few faces; with the default extraction only), `samples` (default 12: candidates
    * drawn from different noise in one batch, the one kept lying closest to the points with
    * each hole counting against it; 1 to 16, each costs a generation), `onStep(step, steps)`,
    * `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
-  async generate(points, { vertices, faces, steps, solver, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, onStep, signal } = {}) {
+  async generate(points, { vertices, faces, steps, solver, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, sharpen = true, onStep, signal } = {}) {
     if (vertices !== undefined && faces !== undefined) {
       throw new TypeError('ask for vertices or for faces, not both');
     }
@@ -272,6 +274,9 @@ export class Model {
     }
     if (typeof closeHoles !== 'boolean') {
       throw new TypeError(`closeHoles must be true or false, got ${JSON.stringify(closeHoles)}`);
+    }
+    if (typeof sharpen !== 'boolean') {
+      throw new TypeError(`sharpen must be true or false, got ${JSON.stringify(sharpen)}`);
     }
     if (solver !== undefined && !['euler', 'heun', 'midpoint'].includes(solver)) {
       throw new TypeError(`solver must be 'euler', 'heun' or 'midpoint', got ${JSON.stringify(solver)}`);
@@ -293,6 +298,7 @@ export class Model {
       extract,
       ...(fit ? {} : { fit: { iterations: 0 }, complete: { enabled: false } }),
       ...(closeHoles ? {} : { close: { enabled: false } }),
+      ...(sharpen ? {} : { sharpen: { enabled: false } }),
     });
     const inner = await this.#inner.generate(points, options, (i, n) => {
       onStep?.(i, n);

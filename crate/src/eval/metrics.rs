@@ -4,7 +4,8 @@
 //!   unsquared Euclidean) and Hausdorff distance (the larger one-sided maximum) between point sets.
 //! - [`compare_meshes`]: the full protocol: normalise both meshes by the ground truth's box to
 //!   [-0.5, 0.5], sample 5,000 points by area on each, then CD and HD (x100), normal consistency,
-//!   F-scores and both topology reports.
+//!   F-scores, the sharp-edge measures ([`SharpEdgeComparison`]: edge Chamfer and edge
+//!   F-score) and both topology reports.
 //! - [`edge_scores`]: precision / recall / F1 of an undirected edge set (paper Table 3).
 //! - [`vertex_distance`] / [`normal_distance`]: mean L2 between corresponding rows (Table 3).
 //!
@@ -17,9 +18,12 @@ use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
+use crate::geometry::features::{SHARP_ANGLE_DEG, sharp_edges};
 use crate::geometry::mesh::MeshError;
 use crate::geometry::normalize::Normalization;
-use crate::geometry::sample::{MAX_SAMPLES, SampleError, sample_surface, subsample_indices};
+use crate::geometry::sample::{
+    MAX_SAMPLES, SampleError, sample_segments, sample_surface, subsample_indices,
+};
 pub use crate::geometry::topology::TopologyReport;
 use crate::rng::Rng;
 
@@ -158,6 +162,10 @@ pub struct CompareOptions {
     /// F-score distance thresholds in the metric frame (the ground truth's longest side is 1):
     /// by default 0.01 and 0.02, i.e. 1% and 2% of that side.
     pub f_score_thresholds: Vec<f64>,
+    /// Points sampled by length along each mesh's sharp edges: 2,000.
+    pub edge_samples: usize,
+    /// The edge F-score's distance threshold in the metric frame: 0.01.
+    pub edge_f_score_threshold: f64,
 }
 
 impl Default for CompareOptions {
@@ -166,6 +174,8 @@ impl Default for CompareOptions {
             samples: 5000,
             seed: 0,
             f_score_thresholds: vec![0.01, 0.02],
+            edge_samples: 2000,
+            edge_f_score_threshold: 0.01,
         }
     }
 }
@@ -177,12 +187,41 @@ impl CompareOptions {
         let pred = rng.next_u64();
         (pred, rng.next_u64())
     }
+
+    /// The seeds of the sharp-edge samples (prediction, ground truth): the master seed's
+    /// third and fourth outputs, so adding them left the surface samples as they were.
+    pub fn edge_sample_seeds(&self) -> (u64, u64) {
+        let mut rng = Rng::new(self.seed);
+        rng.next_u64();
+        rng.next_u64();
+        let pred = rng.next_u64();
+        (pred, rng.next_u64())
+    }
+}
+
+/// The sharp-edge measures of [`compare_meshes`] (docs/design.md section 3): where the
+/// creases are, not only where the surface is. Sharp edges are those of
+/// [`sharp_edges`] at [`SHARP_ANGLE_DEG`]; each side's are sampled by length, in the ground
+/// truth's metric frame.
+#[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SharpEdgeComparison {
+    pub pred_sharp_edges: usize,
+    pub gt_sharp_edges: usize,
+    /// Edge Chamfer distance x 100 between the two sides' edge samples. Where exactly one
+    /// side has sharp edges, the other side's vertices stand in for its edge samples (a mesh
+    /// with no crease is scored as if its creases were wherever its vertices are), so a
+    /// missing crease counts against it. `None` when neither side has sharp edges.
+    pub edge_chamfer_x100: Option<f64>,
+    /// Precision, recall and F-score of the edge samples at
+    /// [`CompareOptions::edge_f_score_threshold`]; 1 when neither side has sharp edges, 0
+    /// when only one has.
+    pub edge_f_score: FScore,
 }
 
 /// F-score at one distance threshold: a predicted sample is correct when a ground-truth sample
 /// lies within `threshold` (precision), and a ground-truth sample is recovered when a predicted
 /// sample does (recall); `f_score = 2 P R / (P + R)`, 0 when both are 0.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct FScore {
     pub threshold: f64,
     pub precision: f64,
@@ -205,6 +244,9 @@ pub struct Comparison {
     /// is a point cloud without per-vertex normals.
     pub normal_consistency: Option<f64>,
     pub f_scores: Vec<FScore>,
+    /// Sharp edges, edge Chamfer distance and edge F-score.
+    #[serde(default)]
+    pub sharp: SharpEdgeComparison,
     /// Points per side.
     pub samples: usize,
     pub pred_seed: u64,
@@ -277,6 +319,50 @@ fn normal_consistency(m: &Matching, na: &[Vec3], nb: &[Vec3]) -> f64 {
     0.5 * (one_side(&m.a_to_b, na, nb) + one_side(&m.b_to_a, nb, na))
 }
 
+/// [`SharpEdgeComparison`] of two meshes already in the metric frame.
+fn sharp_edge_comparison(pred: &Mesh, gt: &Mesh, opts: &CompareOptions) -> SharpEdgeComparison {
+    let (pred_seed, gt_seed) = opts.edge_sample_seeds();
+    let side = |m: &Mesh, seed: u64| {
+        let edges = sharp_edges(&m.positions, &m.faces, SHARP_ANGLE_DEG);
+        let samples = sample_segments(&m.positions, &edges, opts.edge_samples, seed);
+        (edges.len(), samples)
+    };
+    let (pred_sharp_edges, pa) = side(pred, pred_seed);
+    let (gt_sharp_edges, pb) = side(gt, gt_seed);
+    let threshold = opts.edge_f_score_threshold;
+    let score = |precision: f64, recall: f64| FScore {
+        threshold,
+        precision,
+        recall,
+        f_score: f1_of(precision, recall),
+    };
+    let (edge_chamfer_x100, edge_f_score) = match (pa.is_empty(), pb.is_empty()) {
+        (true, true) => (None, score(1.0, 1.0)),
+        (false, false) => match Matching::new(&pa, &pb) {
+            Ok(m) => (Some(100.0 * m.distances().chamfer), f_score(&m, threshold)),
+            Err(_) => (None, score(0.0, 0.0)),
+        },
+        // One side has no crease: its vertices stand in for its edge samples.
+        (pred_missing, _) => {
+            let (a, b) = if pred_missing {
+                (&pred.positions[..], &pb[..])
+            } else {
+                (&pa[..], &gt.positions[..])
+            };
+            let cd = Matching::new(a, b)
+                .ok()
+                .map(|m| 100.0 * m.distances().chamfer);
+            (cd, score(0.0, 0.0))
+        }
+    };
+    SharpEdgeComparison {
+        pred_sharp_edges,
+        gt_sharp_edges,
+        edge_chamfer_x100,
+        edge_f_score,
+    }
+}
+
 /// Compares a predicted mesh with the ground truth by the protocol of docs/design.md section 3.
 ///
 /// Both meshes are mapped by `Normalization::to_metric_frame(gt.aabb())` (the ground truth's
@@ -324,13 +410,9 @@ pub fn compare_meshes(
             which: "ground-truth",
         })?;
     let (pred_seed, gt_seed) = opts.sample_seeds();
-    let (pa, na) = side_samples(
-        &frame.apply_mesh(pred),
-        opts.samples,
-        pred_seed,
-        "predicted",
-    )?;
-    let (pb, nb) = side_samples(&frame.apply_mesh(gt), opts.samples, gt_seed, "ground-truth")?;
+    let (pred_m, gt_m) = (frame.apply_mesh(pred), frame.apply_mesh(gt));
+    let (pa, na) = side_samples(&pred_m, opts.samples, pred_seed, "predicted")?;
+    let (pb, nb) = side_samples(&gt_m, opts.samples, gt_seed, "ground-truth")?;
     let matching = Matching::new(&pa, &pb)?;
     let distances = matching.distances();
     let normal_consistency = match (&na, &nb) {
@@ -347,6 +429,7 @@ pub fn compare_meshes(
             .iter()
             .map(|&t| f_score(&matching, t))
             .collect(),
+        sharp: sharp_edge_comparison(&pred_m, &gt_m, opts),
         samples: opts.samples,
         pred_seed,
         gt_seed,
@@ -606,6 +689,34 @@ mod tests {
             compare_meshes(&sphere, &sphere, &zero),
             Err(MetricsError::ZeroSamples)
         );
+    }
+
+    #[test]
+    fn sharp_edges_are_compared_where_they_are() {
+        let opts = CompareOptions::default();
+        // The same box: every crease found, the edge Chamfer at the sampling floor.
+        let c = compare_meshes(&cube(), &cube(), &opts).unwrap();
+        assert_eq!((c.sharp.pred_sharp_edges, c.sharp.gt_sharp_edges), (12, 12));
+        assert!(c.sharp.edge_f_score.f_score > 0.95, "{:?}", c.sharp);
+        assert!(c.sharp.edge_chamfer_x100.unwrap() < 1.0, "{:?}", c.sharp);
+        // A sphere for a box: no crease where there are twelve, scored as missing.
+        let s = compare_meshes(&icosphere(3), &cube(), &opts).unwrap();
+        assert_eq!(s.sharp.pred_sharp_edges, 0);
+        assert_eq!(s.sharp.edge_f_score.f_score, 0.0);
+        assert!(s.sharp.edge_chamfer_x100.unwrap() > 5.0, "{:?}", s.sharp);
+        // Two spheres: no creases on either side.
+        let n = compare_meshes(&icosphere(2), &icosphere(3), &opts).unwrap();
+        assert_eq!(n.sharp.edge_chamfer_x100, None);
+        assert_eq!(n.sharp.edge_f_score.f_score, 1.0);
+        // A box moved by 5% of its side: its creases are 0.05 off, beyond the 0.01 threshold.
+        let mut moved = cube();
+        for p in &mut moved.positions {
+            *p += Vec3::splat(0.1);
+        }
+        let m = compare_meshes(&moved, &cube(), &opts).unwrap();
+        assert!(m.sharp.edge_f_score.f_score < 0.2, "{:?}", m.sharp);
+        let ecd = m.sharp.edge_chamfer_x100.unwrap();
+        assert!((4.0..20.0).contains(&ecd), "{ecd}");
     }
 
     #[test]

@@ -17,6 +17,20 @@ pub struct SurfaceSummary {
     pub no_faces: usize,
     pub chamfer_x100: f64,
     pub hausdorff_x100: f64,
+    /// Normal consistency (area samples both ways, absolute cosine), over the meshes that
+    /// have it.
+    pub normal_consistency: f64,
+    /// Edge Chamfer distance x100 over the meshes where either side has sharp edges
+    /// ([`crate::eval::metrics::SharpEdgeComparison`]), and how many those are.
+    pub edge_chamfer_x100: f64,
+    pub edge_chamfer_meshes: usize,
+    /// Edge F-score at 0.01 over all meshes (1 where neither side has sharp edges).
+    pub edge_f_score: f64,
+    /// Sharp edges per mesh, and the ground truths' own.
+    pub sharp_edges: f64,
+    pub gt_sharp_edges: f64,
+    /// Mean of each mesh's faces over its ground truth's.
+    pub faces_ratio: f64,
     pub faces_out: f64,
     pub faces_in: f64,
     pub non_manifold_edges: f64,
@@ -47,10 +61,29 @@ impl SurfaceSummary {
             .iter()
             .filter(|c| c.gt_topology.boundary_edges == 0)
             .collect();
+        let mean_of = |values: Vec<f64>| values.iter().sum::<f64>() / values.len().max(1) as f64;
+        let ecd: Vec<f64> = surfaces
+            .iter()
+            .filter_map(|c| c.sharp.edge_chamfer_x100)
+            .collect();
         SurfaceSummary {
             no_faces: comparisons.len() - surfaces.len(),
             chamfer_x100: mean(&|c| c.chamfer_x100),
             hausdorff_x100: mean(&|c| c.hausdorff_x100),
+            normal_consistency: mean_of(
+                surfaces
+                    .iter()
+                    .filter_map(|c| c.normal_consistency)
+                    .collect(),
+            ),
+            edge_chamfer_meshes: ecd.len(),
+            edge_chamfer_x100: mean_of(ecd),
+            edge_f_score: mean(&|c| c.sharp.edge_f_score.f_score),
+            sharp_edges: mean(&|c| c.sharp.pred_sharp_edges as f64),
+            gt_sharp_edges: mean(&|c| c.sharp.gt_sharp_edges as f64),
+            faces_ratio: mean(&|c| {
+                c.pred_topology.faces as f64 / c.gt_topology.faces.max(1) as f64
+            }),
             faces_out: mean(&|c| c.pred_topology.faces as f64),
             faces_in: mean(&|c| c.gt_topology.faces as f64),
             non_manifold_edges: mean(&|c| c.pred_topology.non_manifold_edges as f64),

@@ -115,6 +115,17 @@ impl Mesh {
         n - next as usize
     }
 
+    /// Signed volume enclosed by the faces (the divergence theorem over their triangles):
+    /// positive for a closed mesh wound counter-clockwise seen from outside.
+    pub fn signed_volume(&self) -> f32 {
+        (0..self.faces.len())
+            .map(|f| {
+                let [a, b, c] = self.triangle(f);
+                a.dot(b.cross(c)) / 6.0
+            })
+            .sum()
+    }
+
     /// Total surface area.
     pub fn area(&self) -> f64 {
         // Folded from +0.0: an empty f64 sum is -0.0, which prints as "-0".

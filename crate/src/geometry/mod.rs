@@ -3,12 +3,20 @@
 
 pub mod clean;
 pub mod disjoint_sets;
+/// Guarded local edits (collapse, flip, subdivision) on a manifold mesh.
+pub mod edit;
+/// Sharp edges (creases), for the surface metrics and the sharpening stage.
+pub mod features;
+/// The hard-surface set (box, bracket, wedge, stair, cylinder, table, house, hollow box).
+pub mod hard_surface;
 /// A mesh's summary figures (`meshflow inspect`).
 pub mod inspect;
 pub mod mesh;
 pub mod normalize;
 pub mod normals;
 pub mod primitives;
+/// Plane quadrics and their truncated minimiser (placement and decimation).
+pub mod quadric;
 pub mod sample;
 pub mod topology;
 pub mod voxel;

@@ -136,15 +136,6 @@ pub fn grid(nx: u32, ny: u32) -> Mesh {
 mod tests {
     use super::*;
 
-    fn signed_volume(m: &Mesh) -> f32 {
-        (0..m.faces.len())
-            .map(|f| {
-                let [a, b, c] = m.triangle(f);
-                a.dot(b.cross(c)) / 6.0
-            })
-            .sum()
-    }
-
     #[test]
     fn counts_and_orientation() {
         for (s, v) in [(0, 12), (1, 42), (2, 162), (3, 642), (4, 2562)] {
@@ -152,12 +143,12 @@ mod tests {
             assert_eq!(m.positions.len(), v);
             assert_eq!(m.faces.len(), 20 * 4usize.pow(s));
             assert!(
-                signed_volume(&m) > 0.0,
+                m.signed_volume() > 0.0,
                 "icosphere({s}) faces point inwards"
             );
         }
-        assert!(signed_volume(&octahedron()) > 0.0);
-        assert!((signed_volume(&cube()) - 8.0).abs() < 1e-5);
+        assert!(octahedron().signed_volume() > 0.0);
+        assert!((cube().signed_volume() - 8.0).abs() < 1e-5);
         let g = grid(4, 4);
         assert_eq!((g.positions.len(), g.faces.len()), (25, 32));
         for f in 0..g.faces.len() {

@@ -150,6 +150,39 @@ pub fn sample_surface(mesh: &Mesh, count: usize, seed: u64) -> Result<SurfaceSam
     Ok(out)
 }
 
+/// Samples `count` points uniformly by length on the segments `edges` of `positions`,
+/// reproducibly for `seed` (the edge analogue of [`sample_surface`]: per sample, the segment
+/// by the inverse CDF of the cumulative lengths, then the parameter along it). No segment, or
+/// none of positive length, gives no points.
+pub fn sample_segments(
+    positions: &[Vec3],
+    edges: &[[u32; 2]],
+    count: usize,
+    seed: u64,
+) -> Vec<Vec3> {
+    let mut cumulative = Vec::with_capacity(edges.len());
+    let mut total = 0.0f64;
+    for &[a, b] in edges {
+        total += dvec(positions[a as usize]).distance(dvec(positions[b as usize]));
+        cumulative.push(total);
+    }
+    if !(total > 0.0 && total.is_finite()) {
+        return Vec::new();
+    }
+    let mut rng = Rng::new(seed);
+    (0..count.min(MAX_SAMPLES))
+        .map(|_| {
+            let target = rng.next_f64() * total;
+            let e = cumulative
+                .partition_point(|&c| c <= target)
+                .min(cumulative.len() - 1);
+            let t = rng.next_f64();
+            let [a, b] = edges[e].map(|i| dvec(positions[i as usize]));
+            (a + (b - a) * t).as_vec3()
+        })
+        .collect()
+}
+
 /// Draws `count` of `points`, reproducibly for `seed`, for point clouds that stand in for a
 /// surface: `subsample_indices(points.len(), count, seed)` mapped to the points.
 pub fn subsample_points(points: &[Vec3], count: usize, seed: u64) -> Vec<Vec3> {
@@ -192,6 +225,26 @@ pub fn subsample_indices(len: usize, count: usize, seed: u64) -> Vec<usize> {
 mod tests {
     use super::*;
     use crate::geometry::primitives::{grid, icosphere};
+
+    #[test]
+    fn segment_samples_lie_on_the_segments_by_length() {
+        let positions = [Vec3::ZERO, Vec3::X, Vec3::new(1.0, 3.0, 0.0)];
+        let s = sample_segments(&positions, &[[0, 1], [1, 2]], 4000, 7);
+        assert_eq!(s, sample_segments(&positions, &[[0, 1], [1, 2]], 4000, 7));
+        assert!(
+            s.iter()
+                .all(|p| (p.y.abs() < 1e-6 && (0.0..=1.0).contains(&p.x))
+                    || ((p.x - 1.0).abs() < 1e-6 && (0.0..=3.0).contains(&p.y)))
+        );
+        // A quarter of the length is on the first segment.
+        let first = s
+            .iter()
+            .filter(|p| p.y.abs() < 1e-6 && p.x < 1.0 - 1e-6)
+            .count();
+        assert!((first as f64 / 4000.0 - 0.25).abs() < 0.03, "{first}");
+        assert!(sample_segments(&positions, &[], 10, 0).is_empty());
+        assert!(sample_segments(&positions, &[[1, 1]], 10, 0).is_empty());
+    }
 
     /// Barycentric coordinates of `p` in triangle `t` plus its distance to the triangle's plane.
     fn barycentric(p: Vec3, [a, b, c]: [Vec3; 3]) -> ([f64; 3], f64) {

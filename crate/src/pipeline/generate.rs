@@ -42,6 +42,7 @@ use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
 use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
 use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
+use crate::surface::sharpen::{PointPlanes, SharpenOptions, SharpenReport, sharpen};
 
 /// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
 pub const CONDITION_POINTS: usize = 4096;
@@ -146,6 +147,9 @@ pub struct GenerateOptions {
     /// Closing the holes left after completion where the input goes on
     /// ([`crate::surface::close`]; with completion only, so never with Algorithm 1).
     pub close: CloseOptions,
+    /// Sharpening the surface against the input points' planes, last
+    /// ([`crate::surface::sharpen`]; after the manifold extraction only).
+    pub sharpen: SharpenOptions,
 }
 
 impl Default for GenerateOptions {
@@ -162,6 +166,7 @@ impl Default for GenerateOptions {
             fit: FitOptions::default(),
             complete: CompleteOptions::default(),
             close: CloseOptions::default(),
+            sharpen: SharpenOptions::default(),
         }
     }
 }
@@ -174,7 +179,8 @@ pub struct StageTimes {
     pub sample_s: f64,
     pub decode_s: f64,
     pub extract_s: f64,
-    /// Fitting to the input points, completing the surface and closing its holes.
+    /// Fitting to the input points, completing the surface, closing its holes and
+    /// sharpening it.
     pub fit_s: f64,
 }
 
@@ -188,6 +194,7 @@ pub struct Generated {
     pub fit: FitReport,
     pub complete: CompleteReport,
     pub close: CloseReport,
+    pub sharpen: SharpenReport,
     pub topology: TopologyReport,
     /// Stage times of the whole batch this mesh was generated in.
     pub times: StageTimes,
@@ -351,10 +358,12 @@ impl Generator<'_> {
         if opts.samples > 1 {
             // Every candidate is an input of its own: input k's candidates sit at k, k + n, ...
             let n = inputs.len();
-            let one = GenerateOptions {
+            // Candidates are drawn and chosen unsharpened; only the kept one is sharpened.
+            let mut one = GenerateOptions {
                 samples: 1,
                 ..opts.clone()
             };
+            one.sharpen.enabled = false;
             let expanded: Vec<Vec<Vec3>> = (0..opts.samples)
                 .flat_map(|_| inputs.iter().cloned())
                 .collect();
@@ -363,14 +372,15 @@ impl Generator<'_> {
                 .into_iter()
                 .map(Some)
                 .collect();
-            return Ok((0..n)
+            let kept: Vec<Generated> = (0..n)
                 .map(|k| {
                     let candidates = (0..opts.samples)
                         .filter_map(|j| all[k + j * n].take())
                         .collect();
                     keep_best(candidates, &inputs[k])
                 })
-                .collect());
+                .collect();
+            return Ok(sharpen_all(kept, inputs, opts));
         }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         let conditioned = self.condition_all(inputs, opts)?;
@@ -382,7 +392,8 @@ impl Generator<'_> {
         lengths.sort_unstable();
         lengths.dedup();
         if lengths.len() == 1 {
-            return self.generate_batch(conditioned, &seeds, opts, on_step);
+            let out = self.generate_batch(conditioned, &seeds, opts, on_step)?;
+            return Ok(sharpen_all(out, inputs, opts));
         }
         let mut out: Vec<Option<Generated>> = (0..inputs.len()).map(|_| None).collect();
         for len in lengths {
@@ -394,10 +405,11 @@ impl Generator<'_> {
                 out[k] = Some(g);
             }
         }
-        Ok(out
+        let out = out
             .into_iter()
             .map(|g| g.expect("every input is in one group"))
-            .collect())
+            .collect();
+        Ok(sharpen_all(out, inputs, opts))
     }
 
     /// Stage 2: the latents of a prepared batch, read back (which ends the stage on
@@ -667,6 +679,7 @@ impl Generator<'_> {
                 fit: f.fit,
                 complete: f.complete,
                 close: f.close,
+                sharpen: SharpenReport::default(),
                 times: times.clone(),
             })
             .collect())
@@ -881,6 +894,47 @@ fn finish_one(
     })
 }
 
+/// Stage 6: the kept mesh sharpened against its input `points` (input frame;
+/// [`crate::surface::sharpen`]), after the manifold extraction only (its edits keep a manifold
+/// mesh manifold). Only the kept candidate is sharpened, so the stage costs one mesh's
+/// sharpening however many candidates were drawn; its time counts in `fit_s`. The sharpened
+/// mesh replaces the kept one only when it is no farther from the input points by
+/// [`keep_best`]'s measure: where the model's mesh was too far off for the edits (loose flaps,
+/// crumpled sheets, thin parts the collapses would flatten), the mesh stays as it was
+/// ([`SharpenReport::accepted`] says which).
+pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -> Generated {
+    if !opts.sharpen.enabled || opts.extract.method != ExtractMethod::Manifold {
+        return g;
+    }
+    let started = Instant::now();
+    let planes = PointPlanes::new(points, opts.sharpen.plane_neighbours);
+    let mut mesh = g.mesh.clone();
+    let mut report = sharpen(&mut mesh, &planes, &opts.sharpen);
+    let topology = TopologyReport::of(&mesh);
+    report.accepted = input_score(&mesh, topology.holes, points)
+        <= input_score(&g.mesh, g.topology.holes, points);
+    if report.accepted {
+        g.mesh = mesh;
+        g.topology = topology;
+    }
+    g.sharpen = report;
+    g.times.fit_s += started.elapsed().as_secs_f64();
+    g
+}
+
+/// [`sharpen_kept`] of each output with its input, side by side.
+fn sharpen_all(
+    out: Vec<Generated>,
+    inputs: &[Vec<Vec3>],
+    opts: &GenerateOptions,
+) -> Vec<Generated> {
+    let pairs: Vec<(Generated, &[Vec3])> = out
+        .into_iter()
+        .zip(inputs.iter().map(|p| p.as_slice()))
+        .collect();
+    map_in_parallel(pairs, |_, (g, points)| sharpen_kept(g, points, opts))
+}
+
 /// The candidate a user would keep ([`GenerateOptions::samples`]): the smallest Chamfer
 /// distance between its surface and `points` (the input, in the candidates' frame), each hole
 /// (as [`TopologyReport`] counts them) adding [`HOLE_WEIGHT`] of that distance, then the
@@ -891,15 +945,9 @@ pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
     if candidates.len() == 1 {
         return candidates.remove(0);
     }
-    let score = |g: &Generated| {
-        sample_surface(&g.mesh, SELECTION_SAMPLES, 0)
-            .ok()
-            .and_then(|s| chamfer_hausdorff(&s.points, points).ok())
-            .map_or(f64::INFINITY, |d| {
-                d.chamfer * (1.0 + HOLE_WEIGHT * g.topology.holes as f64)
-            })
-    };
-    let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| score(g));
+    let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| {
+        input_score(&g.mesh, g.topology.holes, points)
+    });
     let best = (0..candidates.len())
         .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
         .expect("at least one candidate");
@@ -907,6 +955,18 @@ pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
         .into_iter()
         .nth(best)
         .expect("the best is one of them")
+}
+
+/// How far a mesh is from the input `points` as [`keep_best`] and [`sharpen_kept`] judge it:
+/// the Chamfer distance between its surface and the points, each of its `holes` adding
+/// [`HOLE_WEIGHT`] of it (infinite when it cannot be sampled).
+fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3]) -> f64 {
+    sample_surface(mesh, SELECTION_SAMPLES, 0)
+        .ok()
+        .and_then(|s| chamfer_hausdorff(&s.points, points).ok())
+        .map_or(f64::INFINITY, |d| {
+            d.chamfer * (1.0 + HOLE_WEIGHT * holes as f64)
+        })
 }
 
 /// What a hole costs in [`keep_best`], as a fraction of the candidate's distance to the input.

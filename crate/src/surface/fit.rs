@@ -203,7 +203,7 @@ pub(crate) fn least_spread_direction(points: &[DVec3]) -> Option<DVec3> {
 }
 
 /// The two faces of each edge that has exactly two.
-fn face_pairs(faces: &[[u32; 3]]) -> Vec<[usize; 2]> {
+pub(crate) fn face_pairs(faces: &[[u32; 3]]) -> Vec<[usize; 2]> {
     let mut by_edge: HashMap<Edge, Vec<usize>> = HashMap::new();
     for (f, &[a, b, c]) in faces.iter().enumerate() {
         for (x, y) in [(a, b), (b, c), (c, a)] {
@@ -222,7 +222,7 @@ fn face_pairs(faces: &[[u32; 3]]) -> Vec<[usize; 2]> {
 /// 90 degrees or more, or area lost) or newly folds onto its neighbour across an edge: each
 /// such vertex goes half as far, then a quarter, then stays where it was, until no face is
 /// flipped or folded. Returns how many vertices were put all the way back.
-fn hold_back_folds(
+pub(crate) fn hold_back_folds(
     positions: &mut [Vec3],
     before: &[Vec3],
     faces: &[[u32; 3]],

@@ -28,7 +28,7 @@ use crate::model::schedule::step_times;
 use crate::model::{add_pair_corrections, spacetime_distances};
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    keep_best, kept_slots, read_bits,
+    keep_best, kept_slots, read_bits, sharpen_kept,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(feature = "wgpu")]
@@ -274,7 +274,7 @@ impl MeshFlow {
             .extract(prepared, &host, &opts)
             .map_err(js_error)?;
         Ok(GeneratedMesh {
-            generated: keep_best(out, &points),
+            generated: sharpen_kept(keep_best(out, &points), &points, &opts),
             samples: opts.samples,
         })
     }
@@ -350,7 +350,8 @@ impl GeneratedMesh {
     }
 
     /// JSON: `vertexBudget`, `samples` (candidates drawn, one kept), `times` (seconds per
-    /// stage), `topology`, `extract`, `close` (the holes closed and left open).
+    /// stage), `topology`, `extract`, `close` (the holes closed and left open), `sharpen` (what
+    /// sharpening did).
     #[wasm_bindgen(getter)]
     pub fn report(&self) -> String {
         let g = &self.generated;
@@ -362,6 +363,7 @@ impl GeneratedMesh {
             "topology": g.topology,
             "extract": g.extract,
             "close": g.close,
+            "sharpen": g.sharpen,
         })
         .to_string()
     }

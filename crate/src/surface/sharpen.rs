@@ -1,0 +1,899 @@
+//! Sharpening: the model's mesh made exact where the input points say it is wrong: flat
+//! where they are flat, creased where they crease, and with few faces where a region is flat.
+//!
+//! One objective: the squared distance from the mesh to the planes of the input points
+//! (each point's plane fitted to its `plane_neighbours` nearest points, weighted by how
+//! planar that neighbourhood is, [`PointPlanes`]), with as few faces as that distance allows.
+//! Five steps pursue it:
+//!
+//! 1. **Room.** Each face is split into four until the median edge is at most about three
+//!    point spacings (at most `max_refine` times), so that vertices can sit on a crease that
+//!    the model's coarse edges cross.
+//! 2. **Placement.** Each vertex goes to the minimiser of the quadric of the planes of its
+//!    `neighbours` nearest points, with eigenvalues below `rank_cutoff` of the largest
+//!    truncated ([`Quadric::minimiser_near`], as dual contouring does): on a flat region the
+//!    vertex moves across the plane only; next to a crease it snaps onto the crease line,
+//!    next to a corner onto the corner. A move that would flip or fold a face is shortened.
+//! 3. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
+//!    face centroids) lie clearly farther from the input planes than the other diagonal's
+//!    would is flipped: an edge across a crease becomes one along it.
+//! 4. **Quadric decimation.** Garland and Heckbert's edge collapses, each vertex's quadric
+//!    the planes of the input points nearest it, cheapest first, guarded by the link
+//!    condition and a turn limit ([`EditMesh::can_collapse`]), down to the face count the
+//!    mesh came in with, and on below it while a collapse costs less than the flatness
+//!    tolerance (RMS distance `flat_tolerance` of the mesh's size, or `noise_tolerance` times
+//!    the points' own RMS off-plane spread, whichever is larger) and leaves no face farther
+//!    from the input than twice that, or than the faces there were (`strays`): a flat region
+//!    ends as a few large faces, a crease as one row of edges. Delaunay flips between coplanar
+//!    faces undo the slivers that greedy collapses leave, and the collapses go on.
+//! 5. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
+//!    that one whose region straddles a crease lands on it; then the flips of step 3 again.
+//!
+//! The mesh stays manifold with consistent winding; its holes and pieces are kept (no edit
+//! joins two boundaries). The model's connectivity survives where the input agrees with it:
+//! [`SharpenReport::model_edges_kept`] says how much.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use glam::{DVec3, Vec3};
+use rstar::RTree;
+use rstar::primitives::GeomWithData;
+use serde::{Deserialize, Serialize};
+
+use crate::Mesh;
+use crate::geometry::edit::EditMesh;
+use crate::geometry::normals::vertex_normals;
+use crate::geometry::quadric::Quadric;
+use crate::geometry::topology::edges;
+use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
+use crate::surface::complete::point_spacing;
+use crate::surface::fit::{
+    Indexed, face_pairs, finite_point_tree, hold_back_folds, least_spread_direction,
+};
+
+/// Options of [`sharpen`] (missing JSON fields take the defaults).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(default, deny_unknown_fields)]
+pub struct SharpenOptions {
+    /// Off: the mesh is left as it is.
+    pub enabled: bool,
+    /// Input points whose planes place each vertex.
+    pub neighbours: usize,
+    /// Points that define each input point's plane.
+    pub plane_neighbours: usize,
+    /// Eigenvalues of a vertex's quadric below this share of the largest are truncated.
+    pub rank_cutoff: f64,
+    /// Most 1-to-4 splits before placement.
+    pub max_refine: usize,
+    /// Flatness tolerance: RMS distance, as a share of the input's longest side, that a
+    /// collapse below the incoming face count may cost.
+    pub flat_tolerance: f64,
+    /// The same, in multiples of the input points' own RMS distance from their planes
+    /// (noise); the larger of the two holds.
+    pub noise_tolerance: f64,
+    /// A collapse may turn a surviving face by at most this many degrees.
+    pub max_turn_deg: f64,
+    /// Rounds of the whole (split, place, flip, collapse, snap).
+    pub passes: usize,
+}
+
+impl Default for SharpenOptions {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            neighbours: 10,
+            plane_neighbours: 12,
+            rank_cutoff: 0.08,
+            max_refine: 2,
+            flat_tolerance: 0.003,
+            noise_tolerance: 3.0,
+            max_turn_deg: 60.0,
+            passes: 8,
+        }
+    }
+}
+
+/// What [`sharpen`] did.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct SharpenReport {
+    pub faces_in: usize,
+    /// Faces after the 1-to-4 splits, and how many splits.
+    pub refined_faces: usize,
+    pub refinements: usize,
+    /// Vertices placed on a crease line (quadric rank 2) or a corner (rank 3).
+    pub crease_vertices: usize,
+    pub corner_vertices: usize,
+    /// Edges flipped to follow a crease (both flip passes).
+    pub flips: usize,
+    pub collapses: usize,
+    pub faces_out: usize,
+    /// Share of the model's edges that are edges of the output (between the same two
+    /// vertices, wherever they moved).
+    pub model_edges_kept: f32,
+    /// The collapse tolerance used (RMS distance, the input's frame).
+    pub tolerance: f32,
+    /// Whether generation kept the sharpened mesh (it does when the mesh is no farther from
+    /// the input points than before; `pipeline::generate::sharpen_kept`). `sharpen` itself
+    /// always sets it.
+    pub accepted: bool,
+}
+
+/// The input points' planes, computed once per input and shared by its candidates.
+///
+/// A point within a spacing or two of a crease has neighbours on both sides, and the plane
+/// fitted to them is tilted halfway between the two faces: a plane no face has. So each
+/// point's plane carries a confidence, 1 where its neighbourhood is as planar as the input's
+/// median one and falling with the square of its surface variation beyond twice that, and
+/// the quadrics weigh the planes by it: near a crease, the planes of the faces on either
+/// side decide, as they meet exactly on the crease line.
+#[derive(Clone, Debug, Default)]
+pub struct PointPlanes {
+    tree: RTree<Indexed>,
+    /// Unit normal of each input point's plane (by the point's index), zero where its
+    /// neighbours span no plane.
+    normals: Vec<DVec3>,
+    /// Each plane's confidence in [0, 1] (see above).
+    confidence: Vec<f64>,
+    /// Median distance between neighbouring points.
+    spacing: f64,
+    /// Points with a plane (their neighbours span one).
+    with_plane: usize,
+    /// Median RMS distance of a neighbourhood from its plane (the input's noise, and
+    /// curvature).
+    rms_off_plane: f64,
+}
+
+impl PointPlanes {
+    /// The planes of `points` (non-finite ones ignored) from their `k` nearest points each.
+    pub fn new(points: &[Vec3], k: usize) -> Self {
+        let tree = finite_point_tree(points);
+        let mut normals = vec![DVec3::ZERO; points.len()];
+        let mut variation = vec![f64::INFINITY; points.len()];
+        let mut residuals = Vec::with_capacity(points.len());
+        for p in tree.iter() {
+            let near: Vec<DVec3> = tree
+                .nearest_neighbor_iter(*p.geom())
+                .take(k.max(3))
+                .map(|n| Vec3::from_array(*n.geom()).as_dvec3())
+                .collect();
+            if let Some(n) = least_spread_direction(&near) {
+                let values = symmetric_eigenvalues(covariance(&near));
+                let total: f64 = values.iter().sum();
+                normals[p.data as usize] = n;
+                variation[p.data as usize] = values[0].max(0.0) / total.max(1e-300);
+                residuals.push(values[0].max(0.0));
+            }
+        }
+        residuals.sort_by(f64::total_cmp);
+        let rms_off_plane = residuals.get(residuals.len() / 2).map_or(0.0, |v| v.sqrt());
+        let mut sorted: Vec<f64> = variation
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .collect();
+        sorted.sort_by(f64::total_cmp);
+        // A floor, so that an exactly flat input does not make every rounding a crease.
+        let typical = sorted
+            .get(sorted.len() / 2)
+            .copied()
+            .unwrap_or(0.0)
+            .max(1e-4);
+        let confidence = variation
+            .iter()
+            .map(|&v| {
+                if v.is_finite() {
+                    (2.0 * typical / v).powi(2).min(1.0)
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        PointPlanes {
+            spacing: point_spacing(&tree) as f64,
+            tree,
+            normals,
+            confidence,
+            with_plane: residuals.len(),
+            rms_off_plane,
+        }
+    }
+
+    /// The points' count (finite ones).
+    pub fn len(&self) -> usize {
+        self.tree.size()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.tree.size() == 0
+    }
+
+    /// The point and plane normal that stand for the surface near `x`: the most confident of
+    /// its 4 nearest points, the nearest among equals.
+    fn nearest_plane(&self, x: DVec3) -> Option<(DVec3, DVec3)> {
+        let mut best: Option<(f64, DVec3, DVec3)> = None;
+        for n in self
+            .tree
+            .nearest_neighbor_iter(x.as_vec3().to_array())
+            .take(4)
+        {
+            let c = self.confidence[n.data as usize];
+            if best.is_none_or(|(b, _, _)| c > b + 1e-9) {
+                let p = Vec3::from_array(*n.geom()).as_dvec3();
+                best = Some((c, p, self.normals[n.data as usize]));
+            }
+        }
+        best.map(|(_, p, n)| (p, n))
+    }
+
+    /// The quadric of the confidence-weighted planes of the `k` points nearest `x`, and the
+    /// distance to the farthest of them.
+    fn quadric_near(&self, x: DVec3, k: usize) -> (Quadric, f64) {
+        let mut q = Quadric::default();
+        let mut reach = 0.0f64;
+        for n in self
+            .tree
+            .nearest_neighbor_iter(x.as_vec3().to_array())
+            .take(k)
+        {
+            let p = Vec3::from_array(*n.geom()).as_dvec3();
+            let i = n.data as usize;
+            reach = reach.max(p.distance(x));
+            if self.normals[i] != DVec3::ZERO && self.confidence[i] > 0.0 {
+                q += Quadric::plane(self.normals[i], p, self.confidence[i]);
+            }
+        }
+        (q, reach)
+    }
+
+    /// `x` projected onto the plane of [`Self::nearest_plane`] (`x` where there is none).
+    fn project(&self, x: DVec3) -> DVec3 {
+        self.nearest_plane(x)
+            .map_or(x, |(p, normal)| x - normal * normal.dot(x - p))
+    }
+
+    /// Distance from `x` to the input surface: the least distance to the planes of its 6
+    /// nearest points that are confident (at least one half; all of them where none is), so
+    /// that a point on one face near a crease is not measured against the other face's plane.
+    fn distance(&self, x: DVec3) -> f64 {
+        let (mut confident, mut any) = (f64::INFINITY, f64::INFINITY);
+        for n in self
+            .tree
+            .nearest_neighbor_iter(x.as_vec3().to_array())
+            .take(6)
+        {
+            let i = n.data as usize;
+            let p = Vec3::from_array(*n.geom()).as_dvec3();
+            let d = if self.normals[i] == DVec3::ZERO {
+                p.distance(x)
+            } else {
+                self.normals[i].dot(x - p).abs()
+            };
+            any = any.min(d);
+            if self.confidence[i] >= 0.5 {
+                confident = confident.min(d);
+            }
+        }
+        if confident.is_finite() {
+            confident
+        } else if any.is_finite() {
+            any
+        } else {
+            0.0
+        }
+    }
+
+    /// Each point's plane, weighted by its confidence, for the points that have one.
+    fn weighted_planes(&self) -> impl Iterator<Item = (DVec3, DVec3, f64)> + '_ {
+        self.tree.iter().filter_map(|p| {
+            let i = p.data as usize;
+            (self.normals[i] != DVec3::ZERO).then(|| {
+                (
+                    Vec3::from_array(*p.geom()).as_dvec3(),
+                    self.normals[i],
+                    self.confidence[i],
+                )
+            })
+        })
+    }
+}
+
+/// Sharpens `mesh` (manifold, consistently wound) against the input `planes` (see the module
+/// documentation). Without faces, with `enabled` off, or when fewer than 16 input points or
+/// fewer than half of them have a plane (points on a line, all in one place), the mesh is
+/// left alone.
+pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> SharpenReport {
+    let mut report = SharpenReport {
+        faces_in: mesh.faces.len(),
+        faces_out: mesh.faces.len(),
+        model_edges_kept: 1.0,
+        accepted: true,
+        ..SharpenReport::default()
+    };
+    let planar = planes.len() >= 16 && 2 * planes.with_plane >= planes.len();
+    if !opts.enabled || mesh.faces.is_empty() || !planar || planes.spacing <= 0.0 {
+        return report;
+    }
+    // The mesh's own size, which a few far outliers among the points do not inflate.
+    let extent = mesh.aabb().map_or(0.0, |b| f64::from(b.max_extent()));
+    let model_edges = edges(&mesh.faces);
+    let mut m = EditMesh::new(
+        mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
+        &mesh.faces,
+    );
+    let target_faces = m.face_count();
+
+    let tolerance = (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
+    report.tolerance = tolerance as f32;
+    // A second pass starts from a mesh already near the input, where the first started from
+    // the model's: its placement and collapses correct what the first left.
+    for _pass in 0..opts.passes {
+        let (mut crease, mut corner) = (0, 0);
+        // 1. Room for the creases.
+        let mut splits = 0;
+        while splits < opts.max_refine && median_edge(&m).is_some_and(|l| l > 3.0 * planes.spacing)
+        {
+            m.subdivide();
+            splits += 1;
+        }
+        report.refinements += splits;
+        report.refined_faces = report.refined_faces.max(m.face_count());
+
+        // 2. Placement: each vertex to the truncated minimiser of its nearby points' planes
+        // (onto a crease or corner when it is next to one), or onto the nearest plane where
+        // that minimiser is farther than those points.
+        let before = m.positions.clone();
+        for (v, &from) in before.iter().enumerate() {
+            if !m.faces_of(v as u32).is_empty() {
+                let (q, reach) = planes.quadric_near(from, opts.neighbours);
+                let x = q.minimiser_near(from, opts.rank_cutoff);
+                m.positions[v] = if x.distance(from) <= reach {
+                    x
+                } else {
+                    planes.project(from)
+                };
+            }
+        }
+        hold_back(&mut m, &before);
+
+        // 3. Decimation on the input's planes: each vertex's quadric holds the planes of the
+        // points nearest it.
+        let tolerance =
+            (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
+        report.tolerance = tolerance as f32;
+        let mut quadrics = vertex_quadrics(&m, planes);
+        report.collapses = decimate(
+            &mut m,
+            planes,
+            &mut quadrics,
+            target_faces,
+            tolerance,
+            opts.max_turn_deg,
+        );
+
+        // 4. Snap: each vertex to the truncated minimiser of the planes it gathered, so vertices
+        // whose region straddles a crease land on it, and on a corner where three planes meet.
+        let before = m.positions.clone();
+        for v in 0..m.positions.len() {
+            if m.faces_of(v as u32).is_empty() {
+                continue;
+            }
+            let q = quadrics[v];
+            match q.rank(opts.rank_cutoff) {
+                2 => crease += 1,
+                3 => corner += 1,
+                _ => {}
+            }
+            let x = q.minimiser_near(before[v], opts.rank_cutoff);
+            // A far jump means an ill-conditioned system: keep the plane part only.
+            m.positions[v] = if x.distance(before[v]) > 4.0 * planes.spacing {
+                q.minimiser_near(before[v], 0.5)
+            } else {
+                x
+            };
+        }
+        hold_back(&mut m, &before);
+        report.flips += align_flips(&mut m, planes);
+        report.crease_vertices = crease;
+        report.corner_vertices = corner;
+    }
+
+    let (positions, faces, kept) = m.compacted();
+    let out_edges: std::collections::HashSet<[u32; 2]> = faces
+        .iter()
+        .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
+        .map(|[a, b]| {
+            let (a, b) = (kept[a as usize], kept[b as usize]);
+            [a.min(b), a.max(b)]
+        })
+        .collect();
+    report.model_edges_kept = if model_edges.is_empty() {
+        1.0
+    } else {
+        model_edges
+            .iter()
+            .filter(|e| out_edges.contains(*e))
+            .count() as f32
+            / model_edges.len() as f32
+    };
+    let had_normals = !mesh.normals.is_empty();
+    mesh.positions = positions.iter().map(|p| p.as_vec3()).collect();
+    mesh.faces = faces;
+    mesh.normals = if had_normals {
+        vertex_normals(&mesh.positions, &mesh.faces)
+    } else {
+        Vec::new()
+    };
+    report.faces_out = mesh.faces.len();
+    report
+}
+
+/// Median edge length of the live faces.
+fn median_edge(m: &EditMesh) -> Option<f64> {
+    let mut lengths: Vec<f64> = m
+        .edges()
+        .iter()
+        .map(|&[a, b]| m.positions[a as usize].distance(m.positions[b as usize]))
+        .collect();
+    lengths.sort_by(f64::total_cmp);
+    lengths.get(lengths.len() / 2).copied()
+}
+
+fn face_normal(m: &EditMesh, f: [u32; 3]) -> DVec3 {
+    let [a, b, c] = m.corners(f);
+    (b - a).cross(c - a)
+}
+
+/// Shortens the placement's moves from `before` where a face would flip or fold onto its
+/// neighbour ([`crate::surface::fit`]'s guard, on the live faces).
+fn hold_back(m: &mut EditMesh, before: &[DVec3]) {
+    let faces: Vec<[u32; 3]> = m.faces.iter().flatten().copied().collect();
+    let pairs = face_pairs(&faces);
+    let mut positions: Vec<Vec3> = m.positions.iter().map(|p| p.as_vec3()).collect();
+    let from: Vec<Vec3> = before.iter().map(|p| p.as_vec3()).collect();
+    hold_back_folds(&mut positions, &from, &faces, &pairs);
+    for (v, p) in positions.iter().enumerate() {
+        // Unmoved vertices keep their exact f64 position.
+        m.positions[v] = if *p == from[v] {
+            before[v]
+        } else {
+            p.as_dvec3()
+        };
+    }
+}
+
+/// The squared probe distances of the two faces `(a, b, c)` and `(b, a, d)` on the edge
+/// `(a, b)`: its midpoint and the two centroids.
+fn pair_cost(m: &EditMesh, planes: &PointPlanes, [a, b, c, d]: [u32; 4]) -> f64 {
+    let p = |v: u32| m.positions[v as usize];
+    [
+        (p(a) + p(b)) * 0.5,
+        (p(a) + p(b) + p(c)) / 3.0,
+        (p(a) + p(b) + p(d)) / 3.0,
+    ]
+    .iter()
+    .map(|&x| planes.distance(x).powi(2))
+    .sum()
+}
+
+/// Flips every edge whose faces lie clearly farther from the input planes than the other
+/// diagonal's would (at most four passes); returns the flips made.
+fn align_flips(m: &mut EditMesh, planes: &PointPlanes) -> usize {
+    let floor = (0.1 * planes.spacing).powi(2);
+    flip_passes(m, |m, [a, b, c, d]| {
+        // Two faces in one plane are the same surface either way.
+        let p = |v: u32| m.positions[v as usize];
+        let n1 = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
+        let n2 = (p(a) - p(b)).cross(p(d) - p(b)).normalize_or_zero();
+        if n1.dot(n2) > COPLANAR_COS {
+            return false;
+        }
+        let now = pair_cost(m, planes, [a, b, c, d]);
+        now > floor && pair_cost(m, planes, [c, d, b, a]) < 0.5 * now
+    })
+}
+
+/// Up to four passes over the edges, flipping each flippable edge `(a, b)` (faces `(a, b, c)`
+/// and `(b, a, d)`) for which `wants([a, b, c, d])` holds, until a pass flips none; returns
+/// the flips made.
+fn flip_passes(m: &mut EditMesh, mut wants: impl FnMut(&EditMesh, [u32; 4]) -> bool) -> usize {
+    let mut flips = 0;
+    for _ in 0..4 {
+        let mut changed = 0;
+        for [a, b] in m.edges() {
+            // `flippable` wants the face that walks a -> b first; try the other way.
+            let (a, b, c, d) = match (m.flippable(a, b), m.flippable(b, a)) {
+                (Some((c, d)), _) => (a, b, c, d),
+                (None, Some((c, d))) => (b, a, c, d),
+                _ => continue,
+            };
+            if wants(m, [a, b, c, d]) {
+                m.flip(a, b, c, d);
+                changed += 1;
+            }
+        }
+        flips += changed;
+        if changed == 0 {
+            break;
+        }
+    }
+    flips
+}
+
+/// The weight of a face's own plane in its vertices' quadrics, per unit area (the input's
+/// planes weigh 1 per unit area). Small: a model face that bevels a crease must not hold its
+/// vertices off the crease (at 0.05 the collapses that recover a crease cost more than the
+/// tolerance and the bevels stayed).
+const FACE_PLANE_WEIGHT: f64 = 0.002;
+
+/// Each vertex's quadric: the planes of the input points nearest it (each weighted by its
+/// share of the surface, the mean area per point, times its confidence), plus its faces'
+/// own planes at [`FACE_PLANE_WEIGHT`] of their area, so that a vertex no point is near (a
+/// surface the input does not see) keeps its faces' shape; and, for a boundary edge, a plane
+/// through it across its face, which holds the outline.
+fn vertex_quadrics(m: &EditMesh, planes: &PointPlanes) -> Vec<Quadric> {
+    let n = m.positions.len();
+    let mut quadrics = vec![Quadric::default(); n];
+    let mut area = 0.0;
+    for f in m.faces.iter().flatten() {
+        let normal = face_normal(m, *f);
+        let twice_area = normal.length();
+        if twice_area <= 0.0 {
+            continue;
+        }
+        area += 0.5 * twice_area;
+        let [a, b, c] = m.corners(*f);
+        let q = Quadric::plane(
+            normal / twice_area,
+            a,
+            FACE_PLANE_WEIGHT * 0.5 * twice_area / 3.0,
+        );
+        for v in f {
+            quadrics[*v as usize] += q;
+        }
+        for (i, j, p) in [(f[0], f[1], a), (f[1], f[2], b), (f[2], f[0], c)] {
+            let on_edge = m
+                .faces_of(i)
+                .iter()
+                .filter(|&&g| m.faces[g as usize].expect("live").contains(&j))
+                .count();
+            if on_edge == 1 {
+                let along = m.positions[j as usize] - p;
+                let across = along.cross(normal).normalize_or_zero();
+                if across != DVec3::ZERO {
+                    let q = Quadric::plane(across, p, along.length_squared());
+                    quadrics[i as usize] += q;
+                    quadrics[j as usize] += q;
+                }
+            }
+        }
+    }
+    let live: Vec<GeomWithData<[f64; 3], u32>> = (0..n)
+        .filter(|&v| !m.faces_of(v as u32).is_empty())
+        .map(|v| GeomWithData::new(m.positions[v].to_array(), v as u32))
+        .collect();
+    if live.is_empty() {
+        return quadrics;
+    }
+    let tree = RTree::bulk_load(live);
+    let share = area / planes.with_plane.max(1) as f64;
+    for (x, normal, confidence) in planes.weighted_planes() {
+        if let Some(v) = tree.nearest_neighbor(x.to_array()) {
+            quadrics[v.data as usize] += Quadric::plane(normal, x, share * confidence);
+        }
+    }
+    quadrics
+}
+
+/// Quadric edge collapses, cheapest first, to `target` faces and on below while a collapse's
+/// RMS cost is under `tolerance`; `quadrics` are summed as vertices merge. Returns the
+/// collapses made.
+fn decimate(
+    m: &mut EditMesh,
+    planes: &PointPlanes,
+    quadrics: &mut [Quadric],
+    target: usize,
+    tolerance: f64,
+    max_turn_deg: f64,
+) -> usize {
+    let n = m.positions.len();
+    let min_cos = max_turn_deg.to_radians().cos();
+    let mut version = vec![0u32; n];
+    let mut heap = BinaryHeap::new();
+    let candidate = |m: &EditMesh, q: &[Quadric], a: u32, b: u32| {
+        let sum = q[a as usize] + q[b as usize];
+        let (pa, pb) = (m.positions[a as usize], m.positions[b as usize]);
+        let mid = (pa + pb) * 0.5;
+        let mut x = sum.damped_minimiser(mid, 1e-3);
+        if x.distance(mid) > pa.distance(pb) {
+            x = [pa, pb, mid]
+                .into_iter()
+                .min_by(|u, v| sum.error(*u).total_cmp(&sum.error(*v)))
+                .expect("three");
+        }
+        let cost = sum.error(x) / sum.weight.max(1e-300);
+        (cost, x)
+    };
+    let push =
+        |heap: &mut BinaryHeap<_>, m: &EditMesh, q: &[Quadric], v: &[u32], a: u32, b: u32| {
+            // The survivor is the lower index, so the model's own vertices (numbered first) stay.
+            let (a, b) = (a.min(b), a.max(b));
+            let (cost, _) = candidate(m, q, a, b);
+            heap.push((Reverse(OrdF64(cost)), a, b, v[a as usize], v[b as usize]));
+        };
+    let tolerance2 = tolerance * tolerance;
+    let mut collapses = 0;
+    // Rounds: collapse until the cheapest allowed collapse is over the tolerance (or none is
+    // allowed), then even out the flat fans that greedy collapses leave (Delaunay flips
+    // between coplanar faces) so that refused collapses may pass, and go again.
+    for _round in 0..6 {
+        heap.clear();
+        for [a, b] in m.edges() {
+            push(&mut heap, m, quadrics, &version, a, b);
+        }
+        let mut faces = m.face_count();
+        let before_round = collapses;
+        while let Some((Reverse(OrdF64(cost)), a, b, va, vb)) = heap.pop() {
+            if version[a as usize] != va || version[b as usize] != vb {
+                continue;
+            }
+            if faces <= target && cost > tolerance2 {
+                break;
+            }
+            // The optimal point, else either end (a half-edge collapse), whichever passes the
+            // guards first: in a flat region the ends cost as little and fold less often.
+            let (_, best) = candidate(m, quadrics, a, b);
+            let sum = quadrics[a as usize] + quadrics[b as usize];
+            let ends = [m.positions[a as usize], m.positions[b as usize]];
+            let limit = if faces <= target {
+                tolerance2
+            } else {
+                f64::INFINITY
+            };
+            let Some(x) = [best, ends[0], ends[1]].into_iter().find(|&x| {
+                sum.error(x) / sum.weight.max(1e-300) <= limit.max(cost)
+                    && m.can_collapse(a, b, x, min_cos)
+                    && (faces > target || !strays(m, planes, a, b, x, 2.0 * tolerance))
+            }) else {
+                continue;
+            };
+            m.collapse(a, b, x);
+            faces = m.face_count();
+            collapses += 1;
+            let merged = quadrics[b as usize];
+            quadrics[a as usize] += merged;
+            version[a as usize] += 1;
+            version[b as usize] += 1;
+            for w in m.neighbours(a) {
+                push(&mut heap, m, quadrics, &version, a, w);
+            }
+        }
+        if delaunay_flips(m) == 0 || collapses == before_round {
+            break;
+        }
+    }
+    collapses
+}
+
+/// Whether collapsing `(a, b)` to `x` would leave a face around them whose centroid or edge
+/// midpoints are farther than `limit` from the input planes, and farther than the faces there
+/// now: the vertex quadrics measure where the vertices go, this where the faces between them
+/// go (a collapse may not cut a corner off, but may straighten a bevel).
+fn strays(m: &EditMesh, planes: &PointPlanes, a: u32, b: u32, x: DVec3, limit: f64) -> bool {
+    let worst = |at: &dyn Fn(u32) -> DVec3, skip_edge: bool| {
+        m.faces_of(a)
+            .iter()
+            .chain(m.faces_of(b))
+            .filter_map(|&id| {
+                let f = m.faces[id as usize].expect("live");
+                if skip_edge && f.contains(&a) && f.contains(&b) {
+                    return None;
+                }
+                let [p, q, r] = f.map(at);
+                Some(
+                    [
+                        (p + q + r) / 3.0,
+                        (p + q) * 0.5,
+                        (q + r) * 0.5,
+                        (r + p) * 0.5,
+                    ]
+                    .iter()
+                    .map(|&probe| planes.distance(probe))
+                    .fold(0.0, f64::max),
+                )
+            })
+            .fold(0.0, f64::max)
+    };
+    let after = worst(
+        &|v| {
+            if v == a || v == b {
+                x
+            } else {
+                m.positions[v as usize]
+            }
+        },
+        true,
+    );
+    after > limit && after > worst(&|v| m.positions[v as usize], false)
+}
+
+/// Two faces with normals within 5 degrees count as one plane (cos 5 degrees, written out:
+/// no trigonometry, so the browser's build decides as the native one does).
+const COPLANAR_COS: f64 = 0.996_194_698_091_745_5;
+
+/// Flips each edge between two nearly coplanar faces (normals within 5 degrees) whose
+/// opposite angles sum to more than 180 degrees (the Delaunay test within their plane): the
+/// slivers of a flat region become well-shaped faces without moving the surface. Returns the
+/// flips made (at most four passes).
+fn delaunay_flips(m: &mut EditMesh) -> usize {
+    flip_passes(m, |m, [a, b, c, d]| {
+        let p = |v: u32| m.positions[v as usize];
+        let n1 = (p(b) - p(a)).cross(p(c) - p(a)).normalize_or_zero();
+        let n2 = (p(a) - p(b)).cross(p(d) - p(b)).normalize_or_zero();
+        if n1.dot(n2) < COPLANAR_COS {
+            return false;
+        }
+        // The opposite angles sum past 180 degrees exactly when their cotangents sum below
+        // zero (no trigonometry, so the browser's build decides as the native one does).
+        let cot = |at: DVec3, u: DVec3, w: DVec3| {
+            let (x, y) = (u - at, w - at);
+            x.dot(y) / x.cross(y).length().max(1e-300)
+        };
+        cot(p(c), p(a), p(b)) + cot(p(d), p(a), p(b)) < -1e-9
+    })
+}
+
+/// An `f64` ordered by `total_cmp`, for the collapse queue.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct OrdF64(f64);
+
+impl Eq for OrdF64 {}
+
+impl PartialOrd for OrdF64 {
+    fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(o))
+    }
+}
+
+impl Ord for OrdF64 {
+    fn cmp(&self, o: &Self) -> std::cmp::Ordering {
+        self.0.total_cmp(&o.0)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::features::{SHARP_ANGLE_DEG, sharp_edges};
+    use crate::geometry::hard_surface::cuboid;
+    use crate::geometry::primitives::{grid, icosphere};
+    use crate::geometry::sample::sample_surface;
+    use crate::geometry::topology::TopologyReport;
+    use crate::rng::Rng;
+
+    /// A blob standing in for the model's mesh of a box: an icosphere drawn most of the way
+    /// onto the box (rounded corners and creases), its vertices jittered.
+    fn blob_of_box(half: Vec3, seed: u64) -> Mesh {
+        let mut m = icosphere(2);
+        let mut rng = Rng::new(seed);
+        for p in &mut m.positions {
+            let j = Vec3::new(rng.next_f32(), rng.next_f32(), rng.next_f32()) - 0.5;
+            let on_cube = *p / p.abs().max_element();
+            *p = p.lerp(on_cube, 0.6) * half + j * 0.03;
+        }
+        m
+    }
+
+    #[test]
+    fn a_blob_of_a_box_comes_back_flat_and_creased_with_few_faces() {
+        let half = Vec3::new(0.9, 0.45, 0.63);
+        let truth = cuboid(-half, half);
+        let points = sample_surface(&truth, 4096, 1).unwrap().points;
+        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let mut mesh = blob_of_box(half, 2);
+        let before = mesh.faces.len();
+        let report = sharpen(&mut mesh, &planes, &SharpenOptions::default());
+        let t = TopologyReport::of(&mesh);
+        assert_eq!(
+            (
+                t.non_manifold_edges,
+                t.inconsistent_winding_edges,
+                t.boundary_edges
+            ),
+            (0, 0, 0),
+            "{t:?}"
+        );
+        assert_eq!(t.degenerate_faces, 0);
+        assert!(report.faces_out < before / 4, "{report:?}");
+        let cmp = crate::eval::metrics::compare_meshes(&mesh, &truth, &Default::default()).unwrap();
+        // 0.97 is the box's own floor: samples within a spacing of a crease find their nearest
+        // neighbour on the other face (the ground truth against itself scores about 0.97).
+        assert!(cmp.normal_consistency.unwrap() > 0.96, "{cmp:?}");
+        assert!(
+            cmp.sharp.edge_f_score.f_score > 0.8,
+            "{:?} {report:?}",
+            cmp.sharp
+        );
+        assert!(!sharp_edges(&mesh.positions, &mesh.faces, SHARP_ANGLE_DEG).is_empty());
+    }
+
+    #[test]
+    fn a_finely_split_box_decimates_back_to_a_box() {
+        let half = Vec3::new(0.9, 0.45, 0.63);
+        let truth = cuboid(-half, half);
+        let points = sample_surface(&truth, 4096, 1).unwrap().points;
+        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let mut e = EditMesh::new(
+            truth.positions.iter().map(|p| p.as_dvec3()).collect(),
+            &truth.faces,
+        );
+        e.subdivide();
+        e.subdivide();
+        e.subdivide();
+        let (p, f, _) = e.compacted();
+        let mut mesh = Mesh::new(p.iter().map(|p| p.as_vec3()).collect(), f);
+        let report = sharpen(&mut mesh, &planes, &SharpenOptions::default());
+        let cmp = crate::eval::metrics::compare_meshes(&mesh, &truth, &Default::default()).unwrap();
+        assert!(report.faces_out <= 24, "{report:?}");
+        assert!(cmp.sharp.edge_f_score.f_score > 0.9, "{:?}", cmp.sharp);
+    }
+
+    #[test]
+    fn a_flat_sheet_stays_flat_and_open_and_loses_its_needless_faces() {
+        let mut g = grid(8, 8);
+        let points: Vec<Vec3> = (0..4096)
+            .map(|i| Vec3::new((i % 64) as f32 / 63.0, (i / 64) as f32 / 63.0, 0.0))
+            .collect();
+        let planes = PointPlanes::new(&points, 12);
+        let mut rng = Rng::new(5);
+        for p in &mut g.positions {
+            p.z = (rng.next_f32() - 0.5) * 0.02;
+        }
+        let holes = TopologyReport::of(&g).holes;
+        let report = sharpen(&mut g, &planes, &SharpenOptions::default());
+        let t = TopologyReport::of(&g);
+        assert_eq!(
+            (t.holes, t.non_manifold_edges, t.inconsistent_winding_edges),
+            (holes, 0, 0)
+        );
+        assert!(g.positions.iter().all(|p| p.z.abs() < 1e-4), "not flat");
+        assert!(report.faces_out < 40, "{report:?}");
+        // The square's outline is kept.
+        let b = g.aabb().unwrap();
+        assert!(
+            (b.min.truncate() - glam::Vec2::ZERO).length() < 1e-3,
+            "{b:?}"
+        );
+        assert!(
+            (b.max.truncate() - glam::Vec2::ONE).length() < 1e-3,
+            "{b:?}"
+        );
+    }
+
+    #[test]
+    fn off_and_degenerate_inputs_leave_the_mesh_alone() {
+        let mesh = icosphere(1);
+        for planes in [
+            PointPlanes::new(&[], 12),
+            PointPlanes::new(&[Vec3::ONE; 100], 12),
+            PointPlanes::new(
+                &(0..100).map(|i| Vec3::X * i as f32).collect::<Vec<_>>(),
+                12,
+            ),
+            PointPlanes::new(&[Vec3::NAN; 50], 12),
+        ] {
+            let mut m = mesh.clone();
+            sharpen(&mut m, &planes, &SharpenOptions::default());
+            let t = TopologyReport::of(&m);
+            assert_eq!((t.non_manifold_edges, t.boundary_edges), (0, 0));
+        }
+        let points = sample_surface(&mesh, 1000, 0).unwrap().points;
+        let mut m = mesh.clone();
+        let off = SharpenOptions {
+            enabled: false,
+            ..Default::default()
+        };
+        sharpen(&mut m, &PointPlanes::new(&points, 12), &off);
+        assert_eq!(m, mesh);
+    }
+}

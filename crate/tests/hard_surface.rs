@@ -1,0 +1,107 @@
+//! The hard-surface set (`tests/fixtures/hard_surface/`, made by
+//! `meshflow::geometry::hard_surface`): the files are the primitives, and generation at the
+//! defaults gives each shape back flat, creased and with few faces.
+//!
+//! `MESHFLOW_WRITE_FIXTURES=1 cargo test --release --test hard_surface` rewrites the files.
+
+use std::path::PathBuf;
+
+use burn::tensor::Device;
+use meshflow::Mesh;
+use meshflow::data::degrade::{Degradation, degrade};
+use meshflow::eval::metrics::{CompareOptions, compare_meshes};
+use meshflow::geometry::hard_surface::hard_surface_set;
+use meshflow::geometry::sample::sample_surface;
+use meshflow::io::{Limits, read_path, write_path};
+use meshflow::pipeline::generate::GenerateOptions;
+use meshflow::pipeline::shipped::ShippedModels;
+
+fn dir() -> PathBuf {
+    PathBuf::from(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/fixtures/hard_surface"
+    ))
+}
+
+/// The 4,096 surface points of shape `k` (seeded by `k`), clean or with 1% noise.
+fn points(mesh: &Mesh, k: usize, noise: f32) -> Vec<glam::Vec3> {
+    let clean = sample_surface(mesh, 4096, k as u64).unwrap().points;
+    let how = Degradation {
+        noise,
+        missing: 0.0,
+    };
+    if noise > 0.0 {
+        degrade(&clean, &how, 1000 + k as u64)
+    } else {
+        clean
+    }
+}
+
+#[test]
+fn the_fixture_files_are_the_primitives() {
+    let write = std::env::var_os("MESHFLOW_WRITE_FIXTURES").is_some();
+    for (k, (name, mesh)) in hard_surface_set().into_iter().enumerate() {
+        let files = [
+            (dir().join(format!("{name}.obj")), mesh.clone()),
+            (
+                dir().join(format!("points/{name}.ply")),
+                Mesh::from_points(points(&mesh, k, 0.0)),
+            ),
+            (
+                dir().join(format!("points/{name}_noise1.ply")),
+                Mesh::from_points(points(&mesh, k, 0.01)),
+            ),
+        ];
+        for (path, expected) in files {
+            if write {
+                write_path(&expected, &path).unwrap();
+            }
+            let read = read_path(&path, &Limits::default()).unwrap();
+            assert_eq!(read.faces, expected.faces, "{}", path.display());
+            assert_eq!(read.positions.len(), expected.positions.len());
+            for (a, b) in read.positions.iter().zip(&expected.positions) {
+                assert!(a.distance(*b) < 1e-5, "{}: {a} vs {b}", path.display());
+            }
+        }
+    }
+}
+
+/// Mean normal consistency and edge F-score of generation at the defaults over the clean
+/// hard-surface inputs, with and without sharpening.
+#[test]
+fn sharpening_makes_the_hard_surface_set_flatter_and_sharper() {
+    let device = Device::flex();
+    let weights = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../weights"));
+    let models = ShippedModels::load(&weights, &device).unwrap();
+    let generator = models.generator(&device);
+    let shapes = hard_surface_set();
+    let inputs: Vec<Vec<glam::Vec3>> = shapes
+        .iter()
+        .map(|(name, _)| {
+            read_path(
+                &dir().join(format!("points/{name}.ply")),
+                &Limits::default(),
+            )
+            .unwrap()
+            .positions
+        })
+        .collect();
+    let score = |opts: &GenerateOptions| {
+        let out = generator.generate(&inputs, opts, &mut |_, _| true).unwrap();
+        let (mut nc, mut ef1) = (0.0, 0.0);
+        for (g, (_, truth)) in out.iter().zip(&shapes) {
+            let t = &g.topology;
+            assert_eq!((t.non_manifold_edges, t.inconsistent_winding_edges), (0, 0));
+            let c = compare_meshes(&g.mesh, truth, &CompareOptions::default()).unwrap();
+            nc += c.normal_consistency.unwrap() / shapes.len() as f64;
+            ef1 += c.sharp.edge_f_score.f_score / shapes.len() as f64;
+        }
+        (nc, ef1)
+    };
+    let sharp = score(&GenerateOptions::default());
+    let mut plain = GenerateOptions::default();
+    plain.sharpen.enabled = false;
+    let plain = score(&plain);
+    assert!(sharp.0 > plain.0 + 0.02, "NC {sharp:?} vs {plain:?}");
+    assert!(sharp.1 > plain.1 + 0.05, "EF1 {sharp:?} vs {plain:?}");
+}
