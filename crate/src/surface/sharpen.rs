@@ -14,10 +14,7 @@
 //!    truncated ([`Quadric::minimiser_near`], as dual contouring does): on a flat region the
 //!    vertex moves across the plane only; next to a crease it snaps onto the crease line,
 //!    next to a corner onto the corner. A move that would flip or fold a face is shortened.
-//! 3. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
-//!    face centroids) lie clearly farther from the input planes than the other diagonal's
-//!    would is flipped: an edge across a crease becomes one along it.
-//! 4. **Quadric decimation.** Garland and Heckbert's edge collapses, each vertex's quadric
+//! 3. **Quadric decimation.** Garland and Heckbert's edge collapses, each vertex's quadric
 //!    the planes of the input points nearest it, cheapest first, guarded by the link
 //!    condition and a turn limit ([`EditMesh::can_collapse`]), down to the face count the
 //!    mesh came in with, and on below it while a collapse costs less than the flatness
@@ -26,12 +23,19 @@
 //!    from the input than twice that, or than the faces there were (`strays`): a flat region
 //!    ends as a few large faces, a crease as one row of edges. Delaunay flips between coplanar
 //!    faces undo the slivers that greedy collapses leave, and the collapses go on.
-//! 5. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
-//!    that one whose region straddles a crease lands on it; then the flips of step 3 again.
+//! 4. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
+//!    that one whose region straddles a crease lands on it.
+//! 5. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
+//!    face centroids) lie clearly farther from the input planes than the other diagonal's
+//!    would is flipped: an edge across a crease becomes one along it.
+//!
+//! The five steps run `passes` times (8 by default); each round starts nearer the input than
+//! the last, so placement and collapses correct what the previous round left.
 //!
 //! The mesh stays manifold with consistent winding; its holes and pieces are kept (no edit
-//! joins two boundaries). The model's connectivity survives where the input agrees with it:
-//! [`SharpenReport::model_edges_kept`] says how much.
+//! joins two boundaries). The model's mesh decides the pieces, the holes and the rough shape;
+//! its edges are mostly rebuilt ([`SharpenReport::model_edges_kept`] says how many survive:
+//! 2-9% on the hard-surface set).
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -101,10 +105,11 @@ pub struct SharpenReport {
     /// Faces after the 1-to-4 splits, and how many splits.
     pub refined_faces: usize,
     pub refinements: usize,
-    /// Vertices placed on a crease line (quadric rank 2) or a corner (rank 3).
+    /// Vertices of the last round snapped onto a crease line (quadric rank 2) or a corner
+    /// (rank 3).
     pub crease_vertices: usize,
     pub corner_vertices: usize,
-    /// Edges flipped to follow a crease (both flip passes).
+    /// Edges flipped to follow a crease, and edge collapses, over all rounds.
     pub flips: usize,
     pub collapses: usize,
     pub faces_out: usize,
@@ -325,9 +330,7 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
 
     let tolerance = (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
     report.tolerance = tolerance as f32;
-    // A second pass starts from a mesh already near the input, where the first started from
-    // the model's: its placement and collapses correct what the first left.
-    for _pass in 0..opts.passes {
+    for _round in 0..opts.passes {
         let (mut crease, mut corner) = (0, 0);
         // 1. Room for the creases.
         let mut splits = 0;
@@ -358,11 +361,8 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
 
         // 3. Decimation on the input's planes: each vertex's quadric holds the planes of the
         // points nearest it.
-        let tolerance =
-            (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
-        report.tolerance = tolerance as f32;
         let mut quadrics = vertex_quadrics(&m, planes);
-        report.collapses = decimate(
+        report.collapses += decimate(
             &mut m,
             planes,
             &mut quadrics,
@@ -393,6 +393,8 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
             };
         }
         hold_back(&mut m, &before);
+
+        // 5. Flips along the creases the snap made.
         report.flips += align_flips(&mut m, planes);
         report.crease_vertices = crease;
         report.corner_vertices = corner;
