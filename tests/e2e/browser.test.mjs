@@ -600,9 +600,10 @@ await check('the npm package imports and generates the way a user would', async 
   // Hole closing is on by default and can be turned off; a non-boolean is a TypeError.
   assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
   assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
-  // Sharpening runs inside wasm too, keeps the mesh manifold and its holes.
+  // Sharpening runs inside wasm too, keeps the mesh manifold and opens no hole (here two of
+  // the lantern's 17 boundary loops become one, natively too).
   const sh = o.sharpen;
-  assert(sh.faces > 0 && sh.refined > 0 && sh.nonManifold === 0 && sh.inconsistent === 0 && sh.holes === o.holes.closed,
+  assert(sh.faces > 0 && sh.refined > 0 && sh.nonManifold === 0 && sh.inconsistent === 0 && sh.holes <= o.holes.closed,
     `sharpen: true: ${JSON.stringify(sh)}`);
   assert(/sharpen must be true or false/.test(sh.badSharpen), `sharpen: 'yes' was not refused: ${sh.badSharpen}`);
   assert(o.byFaces.budget === Math.round(120 / 1.64) && o.byFaces.faces > 0, `faces: 120: ${JSON.stringify(o)}`);
