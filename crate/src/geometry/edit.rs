@@ -115,11 +115,16 @@ impl EditMesh {
         out
     }
 
+    /// How many live faces the edge `(a, b)` has (1 on a boundary, 2 inside).
+    pub fn faces_on_edge(&self, a: u32, b: u32) -> usize {
+        self.edge_faces(a, b).count
+    }
+
     /// Whether an edge of `v` has only one face (or more than two).
     pub fn is_boundary(&self, v: u32) -> bool {
         self.neighbours(v)
             .into_iter()
-            .any(|w| self.edge_faces(v, w).count != 2)
+            .any(|w| self.faces_on_edge(v, w) != 2)
     }
 
     /// The live edges, each once as `[a, b]` with `a < b`.

@@ -554,12 +554,7 @@ fn vertex_quadrics(m: &EditMesh, planes: &PointPlanes) -> Vec<Quadric> {
             quadrics[*v as usize] += q;
         }
         for (i, j, p) in [(f[0], f[1], a), (f[1], f[2], b), (f[2], f[0], c)] {
-            let on_edge = m
-                .faces_of(i)
-                .iter()
-                .filter(|&&g| m.faces[g as usize].expect("live").contains(&j))
-                .count();
-            if on_edge == 1 {
+            if m.faces_on_edge(i, j) == 1 {
                 let along = m.positions[j as usize] - p;
                 let across = along.cross(normal).normalize_or_zero();
                 if across != DVec3::ZERO {
