@@ -2,7 +2,7 @@
 """Does the faceting of a point cloud predict the artist's vertex count (issue 15 item 5)?
 A prototype, not product code.
 
-    python3 bench/budget_facets.py [SHARDS] [-o bench/budget_facets.json]
+    python3 bench/budget_facets.py [SHARDS] [-o docs/experiments/data/2026-11-26-budget-features/budget_facets.json]
 
 Points sampled from a low-poly mesh lie on its flat faces, and an artist who spent few vertices
 left large flat faces. Each cloud (4,096 area-weighted surface samples of a training,

@@ -2,7 +2,7 @@
 """Would a learned predictor of the artist's vertex count beat the default budget rule's R^2 0.10
 (issue 15 item 5)? A prototype, not product code.
 
-    python3 bench/budget_learned.py [SHARDS] [-o bench/budget_learned.json]
+    python3 bench/budget_learned.py [SHARDS] [-o docs/experiments/data/2026-11-26-budget-features/budget_learned.json]
 
 Reads the training and validation shards directly (SHARDS, default
 ~/.cache/meshflow/data/shards; bench/shards.py), keeps meshes of at most 512 vertices (the ones the VAE takes),

@@ -2,7 +2,7 @@
 """Which share of planar neighbourhoods predicts the artist's vertex count best (issue 15
 item 5)? The prototype that chose the shipped rule's third feature; not product code.
 
-    python3 bench/budget_planar.py [SHARDS] [-o bench/budget_rule/planar.json]
+    python3 bench/budget_planar.py [SHARDS] [-o docs/experiments/data/2026-11-29-budget-planar-share/planar.json]
 
 bench/budget_facets.py found that the share of points lying in flat facets predicts ln V far
 better than the shipped two features, but it needs every point's normal and a connected-

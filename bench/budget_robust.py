@@ -2,7 +2,7 @@
 """Can the faceting features survive a noisy scan if the cloud is denoised first (issue 15
 item 5)? A prototype, not product code.
 
-    python3 bench/budget_robust.py [SHARDS] [-o bench/budget_robust.json] [--limit N]
+    python3 bench/budget_robust.py [SHARDS] [-o docs/experiments/data/2026-11-29-budget-planar-share/budget_robust.json] [--limit N]
 
 bench/budget_facets.py found that the share of the points lying in flat facets predicts the
 artist's vertex count better than the shipped rule's two features (validation R^2 0.27 against
@@ -16,8 +16,8 @@ far the noisy clouds' predicted counts move from the clean ones' (mean and sprea
 ln(V noisy / V clean) on validation, Gaussian noise of sigma 0.01 and 0.02 in the model frame,
 i.e. 0.5% and 1% of the longest side: `meshflow eval generate --noise 0.01` is the latter),
 and whether a clean cloud's local plane residual tells it from a noisy one (the percentiles
-of `residual` on validation). `--limit 150` (the figures in BENCHMARKS.md) takes about ten
-minutes on 2 cores.
+of `residual` on validation). `--limit 150` (the figures in
+docs/experiments/2026-11-29-budget-planar-share.md) takes about ten minutes on 2 cores.
 Needs numpy and scipy."""
 import json, os, sys, time
 import numpy as np

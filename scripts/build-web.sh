@@ -13,7 +13,8 @@
 #    (scripts/half-weights.mjs: weights/ -> weights/f16/);
 # 5. prints both modules' sizes, raw and gzipped.
 #
-# Size flags (BENCHMARKS.md "Browser module"): `-Z location-detail=none` drops the file and
+# Size flags (BENCHMARKS.md "Module and weight sizes"; how they were chosen:
+# docs/experiments/2026-11-25-wasm-module-size.md): `-Z location-detail=none` drops the file and
 # line of each panic site (`-Z merge-functions=disabled`: see SNIP below). They are unstable
 # flags, so the stable compiler is told to accept them (RUSTC_BOOTSTRAP=1, for these two
 # commands only): the nightly here has no wasm32 standard
@@ -59,7 +60,7 @@ fi
 # tiled kernel's element type and the same view over the multi-level one's) under one name, and
 # snipping that name broke the multi-level matmul. Hence `-Z merge-functions=disabled` (also
 # unstable, so also under RUSTC_BOOTSTRAP=1); wasm-opt merges the duplicates that remain after
-# the snip. BENCHMARKS.md "Browser module".
+# the snip. docs/experiments/2026-11-25-wasm-module-size.md.
 SNIP=('::tiled::(cmma|cpu_gemm)::kernel::')
 
 build_module() {

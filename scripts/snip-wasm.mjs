@@ -12,8 +12,9 @@
 // patterns name would otherwise silently bring the code back.
 //
 // scripts/build-web.sh uses it for code that the WebGPU module links but can never run
-// (BENCHMARKS.md "Browser module"). A snipped function that does run traps with "unreachable",
-// a loud failure that the browser tests would catch, never a wrong mesh.
+// (BENCHMARKS.md "Module and weight sizes"; docs/experiments/2026-11-25-wasm-module-size.md).
+// A snipped function that does run traps with "unreachable", a loud failure that the browser
+// tests would catch, never a wrong mesh.
 import binaryen from 'binaryen';
 import fs from 'node:fs';
 import { fileURLToPath } from 'node:url';

@@ -2,9 +2,11 @@
 # The project's test command: `bash scripts/test.sh` (also `npm test`, and
 # what CI runs through .ci/run).
 #
-# On a fresh Debian machine with rustup/cargo and node/npm it installs what
-# the tests need (idempotently, so repeated runs are quick), then runs, in
-# order, stopping at the first failure:
+# It first checks the wording of the tracked files (check_wording below: they
+# name commits, dates and machines; a cheap git grep). On a fresh Debian
+# machine with rustup/cargo and node/npm it then installs what the tests need
+# (idempotently, so repeated runs are quick), and runs, in order, stopping at
+# the first failure:
 #   cargo fmt --all --check
 #   cargo test --release --workspace --all-targets --no-fail-fast
 #                                          (lib, bins, integration tests, and
@@ -121,6 +123,33 @@ install_deps() {
 
 # ---- checks ----------------------------------------------------------------
 
+# The repository speaks of itself: its text names commits (short hashes, `git log
+# --format='%h %cd %s'`), dates and machines (cores and CPU model), never the bookkeeping
+# of the work that wrote it. Fails listing file:line for each tracked text file (binary
+# files skipped) that uses one of the phrases below, and each tracked file name with
+# such a number. The words are assembled from pieces so that this file does not match
+# its own pattern; the one-word phrases match as whole words only.
+check_wording() {
+    if ! git -C "$ROOT" rev-parse --is-inside-work-tree >/dev/null 2>&1; then
+        log "not a git checkout: wording check skipped"
+        return 0
+    fi
+    local b='(^|[^[:alnum:]_])' e='([^[:alnum:]_]|$)'
+    local st='st''op' se='ses''sion' le='le''nt' ho='ho''st'
+    local pattern="${b}${st}s? ?[0-9]|${b}${se}|${b}${le}${e}|this ${ho}${e}|this ${st}${e}"
+    local lines names
+    lines="$(git -C "$ROOT" grep -n -I -i -E -e "$pattern" | cut -c1-200 || true)"
+    names="$(git -C "$ROOT" ls-files | grep -i -E "${st}[_ -]?[0-9]" || true)"
+    if [[ -z "$lines" && -z "$names" ]]; then
+        return 0
+    fi
+    log "name commits, dates and machines instead (pattern: $pattern):"
+    [[ -n "$lines" ]] && printf '%s\n' "$lines"
+    [[ -n "$names" ]] && printf '%s\n' "$names" | sed 's/^/file name: /'
+    log "$(printf '%s' "$lines" | grep -c . || true) lines, $(printf '%s' "$names" | grep -c . || true) file names"
+    return 1
+}
+
 check_fmt() { cargo fmt --all --check; }
 
 # Test output is shown as it comes and also kept, to tally the results.
@@ -226,6 +255,7 @@ main() {
     log "repo: $ROOT"
     find_golden
     log "CARGO_TARGET_DIR=$CARGO_TARGET_DIR"
+    run_step wording check_wording
     run_step install install_deps
     run_step fmt check_fmt
     run_step test run_tests

@@ -7,7 +7,8 @@
 # 6,000 steps of 16 at lr 3e-4, every block reading 256 of the input points. Each batch's
 # gradient comes from two half-batches at once on the two cores: the same up to float rounding
 # and 1.9x the steps per second of one pass. About 36 minutes on a 2-core CPU whose flex matrix
-# products peak near 200 GFLOP/s, 73 near 74 GFLOP/s (BENCHMARKS.md).
+# products peak near 200 GFLOP/s, 73 near 74 GFLOP/s (BENCHMARKS.md "Training time";
+# docs/experiments/2026-11-28-data-parallel-training.md).
 # RUN/dit.* are the files to ship. The run resumes from its checkpoint when interrupted; it
 # logs to RUN/train.log and RUN/metrics.jsonl.
 set -euo pipefail

@@ -12,9 +12,10 @@
 # `--data-parallel 2` computes each batch's gradient from two half-batches run at once on the
 # two cores: the same gradient up to float rounding, 1.8-1.9x the steps per second, so the
 # files match the shipped ones statistically, not bit for bit. About 135 minutes end to end on
-# a 2-core host whose flex matrix products peak near 74 GFLOP/s (50 + 83 minutes; BENCHMARKS.md
-# "Two stages instead of three"). The encoder sets the latent space, so a VAE from this script
-# needs a DiT trained on its latents (scripts/train_dit.sh) before the two ship together.
+# a 2-core host whose flex matrix products peak near 74 GFLOP/s (50 + 83 minutes;
+# docs/experiments/2026-11-29-two-stage-vae.md). The encoder sets the latent space, so a VAE
+# from this script needs a DiT trained on its latents (scripts/train_dit.sh) before the two
+# ship together.
 # RUN/decoder/vae.* are the files to ship. Every stage resumes from its checkpoints when
 # interrupted; each logs to RUN/<stage>/train.log and RUN/<stage>/metrics.jsonl.
 set -euo pipefail

@@ -4,9 +4,10 @@
 Each arm is one `meshflow eval generate --split val FLAGS -o ARM.json` (the flags are in
 ARMS below; 226 meshes, the shipped pair, default budget rule, 28 steps). Reads the JSONs
 from DIR, writes sweep.md (the table) and sweep.png (Chamfer distance against holes per
-mesh, one point per arm, sized by faces) beside this script.
+mesh, one point per arm, sized by faces) into OUT (default: the experiment's data folder,
+docs/experiments/data/2026-11-25-fit-and-complete/).
 
-Usage: python3 bench/complete_sweep/plot.py DIR
+Usage: python3 bench/complete_sweep/plot.py DIR [OUT]
 """
 
 import json
@@ -44,7 +45,9 @@ FLAGS = {
 
 def main() -> int:
     src = pathlib.Path(sys.argv[1])
-    here = pathlib.Path(__file__).parent
+    root = pathlib.Path(__file__).resolve().parents[2]
+    here = (pathlib.Path(sys.argv[2]) if len(sys.argv) > 2
+            else root / "docs" / "experiments" / "data" / "2026-11-25-fit-and-complete")
     rows = []
     for arm, what in ARMS.items():
         r = json.loads((src / f"sw_{arm}.json").read_text())

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The DiT continuation arms of BENCHMARKS.md "The shipped DiT, trained 4,000 steps longer" (its
-# part "An H100 for 15 minutes"; issue 14, stop 33), as they ran on a lent H100 (16 cores;
-# burn-wgpu over Vulkan, the NVIDIA driver), from the repository root, with these ignored files
-# carried beside the tree:
+# The DiT continuation arms of docs/experiments/2026-11-27-dit-on-h100.md (issue 14, commit
+# 1107f76, 2026-11-27; the results are in docs/experiments/data/2026-11-27-dit-on-h100/), as
+# they ran on an H100 GPU machine (16 cores; burn-wgpu over Vulkan, the NVIDIA driver), from
+# the repository root, with these ignored files carried beside the tree:
 #   .dev/meshflow.xz    the release CLI of this commit, stripped (`objcopy --strip-all`), xz'd
 #   .dev/data.tar.xz    cdata/ = the shard build's train and val meshes of <= 512 vertices
 #                       (`python3 bench/vae_gpu_decoder/compact_data.py SHARDS cdata`), tarred

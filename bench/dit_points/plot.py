@@ -1,8 +1,9 @@
 """Does a DiT that reads the input points close the generation gap of the 64-wide VAE?
 
-Validation flow loss against wall-clock time on this 2-core CPU (one thread per run) for three
-DiTs on the same 64-wide latents (the latent-64 VAE of stop 40; its decoder-only stage kept
-stage 1's encoder, so the latents are stop 31's):
+Validation flow loss against wall-clock time on the 2-core AMD EPYC VM (one thread per run) for
+three DiTs on the same 64-wide latents (the latent-64 VAE of commit d693cb9, 2026-11-27; its
+decoder-only stage kept stage 1's encoder, so the latents are those of commit 43a7acb,
+2026-11-26):
 
 - base: 192 x 6, 10,000 steps at lr 3e-4 (bench/vae_latent64/dit.config.json);
 - big: 240 x 8, 10,000 steps (bench/vae_latent64/dit_big.config.json);
@@ -15,16 +16,21 @@ points of surface samples), the condition the model meets in use; right: the gen
 validation CD of each arm's final weights (FINAL_CD below, from `meshflow eval generate
 --split val`), which the losses do not rank.
 
-`python3 bench/dit_points/plot.py` reads the metrics files next to it (`<arm>.metrics.jsonl`),
-writes curves.png and prints one row per arm. Time is each run's own `elapsed_s` (the
+`python3 bench/dit_points/plot.py [DIR [PNG]]` reads each arm's `<arm>.metrics.jsonl` from DIR
+(default: the experiment's data folder, docs/experiments/data/2026-11-28-dit-point-attention/,
+which holds base and big), else from this folder (points, the DiT that shipped with the 64-wide
+VAE), writes PNG (default: curves.png in DIR) and prints one row per arm. Time is each run's own `elapsed_s` (the
 processes of a resumed run joined end to end); runs shared the CPU with other jobs, so a few
 percent either way is noise."""
-import json, os
+import json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
+DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(DATA, '2026-11-28-dit-point-attention')
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(DIR, 'curves.png')
 ARMS = [('base', 'base 192x6'), ('big', 'big 240x8'), ('points', '192x6 + 256 points')]
 
 
@@ -50,15 +56,18 @@ def curves(path):
 
 
 # Generated validation CD x100 (`meshflow eval generate --split val`, seed 0) of each arm's final
-# weights with today's 64-wide decoder; the larger DiT's is with stop 33's decoder (marked), the
+# weights with the 64-wide decoder of commit 57693dd; the larger DiT's is with the decoder of
+# commit 1107f76 (marked), the
 # 192 x 6 without points scored 5.089 with that one.
-FINAL_CD = {'base': (4.870, ''), 'big': (5.018, " (stop 33's decoder)"), 'points': (4.372, '')}
+FINAL_CD = {'base': (4.870, ''), 'big': (5.018, " (decoder of 1107f76)"), 'points': (4.372, '')}
 
 fig, axes = plt.subplots(1, 3, figsize=(15, 4))
 print('| arm | steps | minutes | val flow loss | with inference positions |')
 print('|---|---:|---:|---:|---:|')
 for arm, label in ARMS:
-    path = os.path.join(HERE, f'{arm}.metrics.jsonl')
+    path = os.path.join(DIR, f'{arm}.metrics.jsonl')
+    if not os.path.exists(path):
+        path = os.path.join(HERE, f'{arm}.metrics.jsonl')
     if not os.path.exists(path):
         continue
     rows, (steps, minutes) = curves(path)
@@ -84,4 +93,4 @@ axes[2].set_xlim(0, None)
 axes[2].grid(alpha=0.3)
 axes[2].legend(fontsize=8)
 fig.tight_layout()
-fig.savefig(os.path.join(HERE, 'curves.png'), dpi=110)
+fig.savefig(PNG, dpi=110)

@@ -17,9 +17,10 @@
 #     against training time beside the flow loss in metrics.jsonl.
 #  4. the arm's records without its weights (probe, config, the validation rows of
 #     metrics.jsonl, each snapshot's stage and evaluation summary) are copied into
-#     bench/dit_sweep/runs/<arm>/, which is committed, so the curves outlive the machine.
-# Then bench/dit_sweep/plot.py draws both against time from bench/dit_sweep/runs and writes
-# the table.
+#     KEEP/<arm>/ (default: docs/experiments/data/2026-11-25-dit-size-sweep/runs/, the logged
+#     sweep's records, which are committed), so the curves outlive the machine.
+# Then bench/dit_sweep/plot.py draws both against time from KEEP and writes sweep.png and the
+# table sweep.md beside KEEP.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 RUNS="${1:?usage: run_sweep.sh RUNS [ARM ...]}"; shift
@@ -89,7 +90,7 @@ for arm in "${ARMS[@]}"; do
             --weights "$snap" -o "$snap/eval.json" > "$snap/eval.log" 2>&1
     done
 done
-KEEP="$ROOT/bench/dit_sweep/runs"
+KEEP="${KEEP:-$ROOT/docs/experiments/data/2026-11-25-dit-size-sweep/runs}"
 for arm in "${ARMS[@]}"; do
     python3 - "$RUNS/$arm" "$KEEP/$arm" <<'EOF'
 import json, pathlib, shutil, sys
@@ -111,5 +112,5 @@ if [[ -f "$RUNS/shipped_eval.json" ]]; then
     python3 -c "import json, sys; json.dump({'all': json.load(open(sys.argv[1]))['all']}, open(sys.argv[2], 'w'), indent=1)" \
         "$RUNS/shipped_eval.json" "$KEEP/shipped_eval.json"
 fi
-python3 "$ROOT/bench/dit_sweep/plot.py" "$KEEP" "$ROOT/bench/dit_sweep/sweep.png" \
-    --table "$ROOT/bench/dit_sweep/sweep.md"
+python3 "$ROOT/bench/dit_sweep/plot.py" "$KEEP" "$(dirname "$KEEP")/sweep.png" \
+    --table "$(dirname "$KEEP")/sweep.md"

@@ -1,7 +1,10 @@
 """Generated validation CD against DiT evaluations per candidate, for each sampler (issue 14).
 
-Reads the `meshflow eval generate --split val` results in this folder (`val_*.json`) and the
-Euler runs of earlier stops, prints one table (every seed) and draws `sampler.png` (seed 0).
+`python3 bench/sampler/plot.py [DIR [PNG]]` reads the `meshflow eval generate --split val`
+results in DIR (`val_*.json`; default: the experiment's data folder,
+docs/experiments/data/2026-11-27-second-order-sampling/) and the Euler runs scored before (from
+their own entries' data folders), prints one table (every seed) and draws PNG (seed 0; default
+`sampler.png` in DIR).
 Each file's options say its solver, steps, seed and schedule (`to-zero`, the default, or
 `reference`: the schedule for S + 1 cut at its last time, t ~ 0.009); the other time grids are
 in the name (`_g1`: S steps evenly spaced in t from 1 to 0; `_g2`: the same in shifted time,
@@ -11,6 +14,7 @@ shift 2).
 import glob
 import json
 import os
+import sys
 
 import matplotlib
 
@@ -18,16 +22,20 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-BENCH = os.path.dirname(HERE)
-# The Euler runs scored before this sweep (stop 32 and 33).
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), "docs", "experiments", "data")
+DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(DATA, "2026-11-27-second-order-sampling")
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(DIR, "sampler.png")
+# The Euler runs scored before this sweep (commits 0a88870 of 2026-11-26, c80fa83 and a47b9c5 of
+# 2026-11-27), in the data folders of their entries.
 EARLIER = [
-    "vae_latent64/generate_eval_val_dit32_continued.json",
-    "vae_latent64/generate_eval_val_dit32_continued_seed1.json",
-    "vae_latent64/generate_eval_val_dit_big.json",
-    "vae_latent64/generate_eval_val_dit_big_steps28.json",
-    "vae_latent64/generate_eval_val_dit_continued.json",
+    "2026-11-27-dit-trained-longer/generate_eval_val_dit32_continued.json",
+    "2026-11-27-dit-trained-longer/generate_eval_val_dit32_continued_seed1.json",
+    "2026-11-27-larger-dit-latent-64/generate_eval_val_dit_big.json",
+    "2026-11-27-larger-dit-latent-64/generate_eval_val_dit_big_steps28.json",
+    "2026-11-26-latent-64/generate_eval_val_dit_continued.json",
 ]
-# The pairs by their DiT's sha256 (first 12 hex digits), as BENCHMARKS.md names them.
+# The pairs by their DiT's sha256 (first 12 hex digits), as
+# docs/experiments/2026-11-27-second-order-sampling.md names them.
 PAIRS = {
     "8c75a5506a58": "shipped",
     "fc10553c7da3": "64-wide, large DiT",
@@ -43,8 +51,8 @@ def evaluations(solver, steps, grid):
 
 
 def arms():
-    files = [os.path.join(BENCH, f) for f in EARLIER]
-    files += sorted(glob.glob(os.path.join(HERE, "val_*.json")))
+    files = [os.path.join(DATA, f) for f in EARLIER]
+    files += sorted(glob.glob(os.path.join(DIR, "val_*.json")))
     for path in files:
         d = json.load(open(path))
         name = os.path.basename(path).split(".")[0]
@@ -114,7 +122,7 @@ def main():
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)
     fig.tight_layout()
-    fig.savefig(os.path.join(HERE, "sampler.png"), dpi=120)
+    fig.savefig(PNG, dpi=120)
 
 
 if __name__ == "__main__":

@@ -1,13 +1,16 @@
 #!/usr/bin/env bash
-# The sampler sweep of BENCHMARKS.md "Second-order sampling" (stop 34): validation generation
-# for each pair, solver and step count, one `meshflow eval generate` each (3-6 minutes here),
-# then `python3 bench/sampler/plot.py`.
+# The sampler sweep of docs/experiments/2026-11-27-second-order-sampling.md (commit a36ab9f,
+# 2026-11-27): validation generation for each pair, solver and step count, one `meshflow eval
+# generate` each (3-6 minutes on the 2-core AMD EPYC VM), into bench/sampler/val_*.json, then
+# `python3 bench/sampler/plot.py bench/sampler` (the logged results are in
+# docs/experiments/data/2026-11-27-second-order-sampling/, which plot.py reads by default).
 #
 #   bash bench/sampler/run.sh SHIPPED_PAIR WIDE_CONTINUED_PAIR WIDE_LARGE_PAIR
 #
 # Each PAIR is a folder with vae.* and dit.*: the shipped weights/, and the 64-wide VAE of
-# bench/vae_latent64/ (decoder.manifest.json) with its continued DiT (dit_continued.*) or its
-# large DiT (dit_big.*). The time-grid arms (`_g1`, `_g2`) ran on a build whose step_times read
+# docs/experiments/2026-11-26-latent-64.md (its manifest: decoder.manifest.json in that entry's
+# data folder) with its continued DiT (dit_continued.*, same folder) or its large DiT (dit_big.*,
+# docs/experiments/data/2026-11-27-larger-dit-latent-64/). The time-grid arms (`_g1`, `_g2`) ran on a build whose step_times read
 # the grid from an environment variable; that build is not shipped (neither grid helped), so
 # they are not repeated here. The committed JSON files have `per_mesh` removed.
 set -euo pipefail
@@ -36,4 +39,4 @@ arm ship_mid3_k16 S midpoint 3 0 16
 arm ship_mid2_k16 S midpoint 2 0 16
 arm ship_mid3_ref S midpoint 3 0 12 reference
 arm ship_mid3_ref_s1 S midpoint 3 1 12 reference
-python3 bench/sampler/plot.py
+python3 bench/sampler/plot.py bench/sampler

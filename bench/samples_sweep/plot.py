@@ -7,9 +7,15 @@ table (candidates_val_s7.csv), the choice keep_best makes among the first K cand
 replayed for hole weights w from 0 (distance alone) to holes first: score = distance to the
 input x (1 + w x holes). Right: the same arms' CD and holes against the whole generation's
 time on the lantern scan (`meshflow bench generate --steps S --samples K`, CPU, medians).
-Writes sweep.png beside this file and prints the tables."""
+
+    python3 bench/samples_sweep/plot.py [DIR [PNG]]
+
+Reads arms.csv and candidates_val_s7.csv from DIR, each from the experiment's data folder
+(docs/experiments/data/2026-11-26-candidates-and-steps/samples_sweep/, the default DIR) where
+DIR lacks it; writes PNG (default: sweep.png in DIR) and prints the tables."""
 import csv
 import pathlib
+import sys
 
 import matplotlib
 
@@ -17,10 +23,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
-HERE = pathlib.Path(__file__).parent
-arms = list(csv.DictReader(open(HERE / "arms.csv")))
+ROOT = pathlib.Path(__file__).resolve().parents[2]
+LOGGED = ROOT / "docs" / "experiments" / "data" / "2026-11-26-candidates-and-steps" / "samples_sweep"
+DIR = pathlib.Path(sys.argv[1]) if len(sys.argv) > 1 else LOGGED
+PNG = pathlib.Path(sys.argv[2]) if len(sys.argv) > 2 else DIR / "sweep.png"
+
+
+def source(name):
+    return DIR / name if (DIR / name).exists() else LOGGED / name
+
+
+arms = list(csv.DictReader(open(source("arms.csv"))))
 rows = np.array([[float(r[k]) for k in ("mesh", "candidate", "holes", "cd_x100", "input_cd_x100")]
-                 for r in csv.DictReader(open(HERE / "candidates_val_s7.csv"))])
+                 for r in csv.DictReader(open(source("candidates_val_s7.csv")))])
 n, k_max = int(rows[:, 0].max()) + 1, int(rows[:, 1].max()) + 1
 holes, cd, icd = (np.full((n, k_max), np.nan) for _ in range(3))
 for m, j, h, c, d in rows:
@@ -73,7 +88,7 @@ bx.set_xlabel("whole generation on the lantern scan, s (CPU, 2 threads, median)"
 bx.set_title("What the arms cost")
 bx.legend(fontsize=7)
 fig.tight_layout()
-fig.savefig(HERE / "sweep.png", dpi=110)
+fig.savefig(PNG, dpi=110)
 print("\nmeasured arms")
 print("| arm | split | steps | candidates | rule | CD x100 | HD x100 | faces | holes | components | lantern s |")
 print("|---|---|---:|---:|---|---:|---:|---:|---:|---:|---:|")

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Steps against candidates, and how the kept candidate is chosen (issue 15, stop 29).
+# Steps against candidates, and how the kept candidate is chosen (issue 15, commit 6244e77, 2026-11-26).
 #
 #   bash bench/samples_sweep/run.sh OUT_DIR      (about 25 minutes on 2 cores)
 #
@@ -9,7 +9,9 @@
 #    `--meshes`: eval batches hold 8 meshes, and candidate j of a batch's input k is seeded
 #    seed + k + 8j, so these are exactly the candidates `--samples 12` draws. candidates.py
 #    then scores each one (holes, CD to the ground truth, and the distance to the input that
-#    keep_best measures) into candidates_val_s7.csv, and plot.py replays selection rules on it.
+#    keep_best measures) into OUT_DIR/candidates_val_s7.csv, and plot.py replays selection rules
+#    on it (OUT_DIR/sweep.png; arms.csv, the measured arms' table with their lantern times, is
+#    the one logged in docs/experiments/data/2026-11-26-candidates-and-steps/samples_sweep/).
 #
 # arms.csv's "holes first" rows (hf) were measured with the build of 412950f, before keep_best
 # weighed holes against the distance; with a later build every arm of more than one candidate
@@ -32,5 +34,5 @@ arm s7_k12 --steps 7 --samples 12
 for j in $(seq 0 11); do
     arm "cand_seed$((8 * j))" --steps 7 --samples 1 --seed $((8 * j)) --meshes "$OUT/cand_seed$((8 * j))"
 done
-python3 bench/samples_sweep/candidates.py "$OUT" 12 bench/samples_sweep/candidates_val_s7.csv
-python3 bench/samples_sweep/plot.py
+python3 bench/samples_sweep/candidates.py "$OUT" 12 "$OUT/candidates_val_s7.csv"
+python3 bench/samples_sweep/plot.py "$OUT"

@@ -2,8 +2,12 @@
 schedule and wall clock, one on its training positions (control), one with positions drawn as
 inference draws them from degraded surfaces (weights/dit.augment.train.json). Validation flow
 loss against wall time, with the training positions and with inference's:
-python3 bench/training/plot_dit_augment.py -> bench/training/dit_augment.png."""
+`python3 bench/training/plot_dit_augment.py [DIR [PNG]]`, DIR holding the two arms' logs
+(default: the experiment's data folder,
+docs/experiments/data/2026-11-25-conditioning-augmentation/), PNG by default dit_augment.png
+there."""
 import json
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -11,7 +15,10 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-HERE = Path(__file__).parent
+ROOT = Path(__file__).resolve().parents[2]
+DIR = (Path(sys.argv[1]) if len(sys.argv) > 1
+       else ROOT / "docs" / "experiments" / "data" / "2026-11-25-conditioning-augmentation")
+PNG = Path(sys.argv[2]) if len(sys.argv) > 2 else DIR / "dit_augment.png"
 
 
 def curves(path):
@@ -27,8 +34,8 @@ def curves(path):
 
 
 arms = {
-    "control: training positions": HERE / "dit_augment_control.metrics.jsonl",
-    "augmented: inference's positions, degraded": HERE / "dit_augment.metrics.jsonl",
+    "control: training positions": DIR / "dit_augment_control.metrics.jsonl",
+    "augmented: inference's positions, degraded": DIR / "dit_augment.metrics.jsonl",
 }
 fig, axes = plt.subplots(1, 2, figsize=(11, 3.8))
 for label, path in arms.items():
@@ -42,4 +49,4 @@ for ax in axes:
     ax.grid(alpha=0.3)
 axes[1].legend(fontsize=8)
 fig.tight_layout()
-fig.savefig(HERE / "dit_augment.png", dpi=110)
+fig.savefig(PNG, dpi=110)

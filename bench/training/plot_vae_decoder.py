@@ -1,6 +1,11 @@
-"""Validation curves of the shipped VAE's two stages (whole VAE, then the decoder alone):
-python3 bench/training/plot_vae_decoder.py -> bench/training/vae_decoder.png."""
+"""Validation curves of the VAE's first two stages as shipped at 5b5ff14 (whole VAE, then the
+decoder alone): `python3 bench/training/plot_vae_decoder.py [BASE DECODER [PNG]]`. BASE and
+DECODER are the two stages' metrics.jsonl (default: vae.metrics.jsonl in
+docs/experiments/data/2026-11-24-vae-stage-1/ and vae_decoder.metrics.jsonl in
+docs/experiments/data/2026-11-25-vae-decoder-stage/); PNG by default vae_decoder.png beside
+DECODER."""
 import json
+import sys
 from pathlib import Path
 
 import matplotlib
@@ -8,15 +13,19 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-HERE = Path(__file__).parent
+DATA = Path(__file__).resolve().parents[2] / "docs" / "experiments" / "data"
+BASE = Path(sys.argv[1]) if len(sys.argv) > 2 else DATA / "2026-11-24-vae-stage-1" / "vae.metrics.jsonl"
+DECODER = (Path(sys.argv[2]) if len(sys.argv) > 2
+           else DATA / "2026-11-25-vae-decoder-stage" / "vae_decoder.metrics.jsonl")
+PNG = Path(sys.argv[3]) if len(sys.argv) > 3 else DECODER.with_name("vae_decoder.png")
 
 
 def validation(path):
     return [json.loads(l) for l in open(path) if '"edge_f1"' in l]
 
 
-base = validation(HERE / "vae.metrics.jsonl")
-decoder = validation(HERE / "vae_decoder.metrics.jsonl")
+base = validation(BASE)
+decoder = validation(DECODER)
 offset = base[-1]["step"]
 fig, axes = plt.subplots(1, 3, figsize=(13, 3.6))
 for ax, key, label in zip(axes, ["edge_f1", "val_position", "val_normal"],
@@ -31,4 +40,4 @@ for ax, key, label in zip(axes, ["edge_f1", "val_position", "val_normal"],
     ax.grid(alpha=0.3)
 axes[0].legend(fontsize=8)
 fig.tight_layout()
-fig.savefig(HERE / "vae_decoder.png", dpi=110)
+fig.savefig(PNG, dpi=110)

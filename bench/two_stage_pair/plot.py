@@ -1,4 +1,4 @@
-"""The DiT trained on the two-stage VAE's latents (shipped since stop 51) against the DiT
+"""The DiT trained on the two-stage VAE's latents (shipped since commit c94f408, 2026-11-29) against the DiT
 shipped before it, on the three-stage VAE's latents.
 
 Both are `weights/dit.train.json` (192 x 6, reading 256 input points, 6,000 steps of 16 at
@@ -28,8 +28,8 @@ def val(path):
 
 
 fig, ax = plt.subplots(figsize=(7, 4.5))
-for path, label, colour in [(SHIPPED, 'DiT until stop 51 (three-stage VAE)', 'tab:blue'),
-                            (NEW, 'DiT since stop 51 (two-stage VAE)', 'tab:orange')]:
+for path, label, colour in [(SHIPPED, 'DiT until c94f408 (three-stage VAE)', 'tab:blue'),
+                            (NEW, 'DiT since c94f408 (two-stage VAE)', 'tab:orange')]:
     rows = val(path)
     steps = [r['step'] for r in rows]
     ax.plot(steps, [r['val_loss'] for r in rows], color=colour, label=f'{label}, training positions')

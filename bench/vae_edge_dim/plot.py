@@ -2,20 +2,30 @@
 or 128 edge-embedding channels, the arms at once with the same wall-clock budget. Draws
 validation edge F1 at the best tau of the grid, position and normal MSE against wall minutes
 into edge_dim.png and prints each arm's validations at every 1,000 steps.
-`python3 bench/vae_edge_dim/plot.py [--steps] [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
-ARM/metrics.jsonl (default: the logs kept here, validation lines and every 10th step);
---steps draws against steps instead of wall minutes (bench/vae_pair_head: its third arm started
-later, beside the other two; bench/vae_pair_lr: its arms against that third arm)."""
+`python3 bench/vae_edge_dim/plot.py [--steps] [DIR | ARM.metrics.jsonl ...] [PNG]`: each DIR
+holds ARM.metrics.jsonl or ARM/metrics.jsonl, and a log can also be named alone (default: the
+logs of the edge-width arms, validation lines and every 10th step, in the experiment's data
+folder, docs/experiments/data/2026-11-28-edge-embedding-width/); PNG (a name ending in .png)
+defaults to edge_dim.png in the first DIR. --steps draws against steps instead of wall minutes
+(docs/experiments/data/2026-11-28-pair-head: its third arm started later, beside the other two;
+the pair-head lr arms against that third arm: D/2026-11-28-pair-head-lr
+bench/vae_pair_lr/e_lr3e4.metrics.jsonl D/2026-11-28-pair-head/c_pair64_context.metrics.jsonl,
+with D for docs/experiments/data)."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
 STEPS = '--steps' in sys.argv
 ARGS = [a for a in sys.argv[1:] if a != '--steps']
-DIR = ARGS[0] if len(ARGS) > 0 else HERE
-PNG = ARGS[1] if len(ARGS) > 1 else os.path.join(HERE, 'edge_dim.png')
+LOGS = [a for a in ARGS if a.endswith('.metrics.jsonl')]
+DIRS = [a for a in ARGS if not a.endswith('.png') and a not in LOGS]
+if not ARGS:
+    DIRS = [os.path.join(DATA, '2026-11-28-edge-embedding-width')]
+PNGS = [a for a in ARGS if a.endswith('.png')]
+PNG = PNGS[0] if PNGS else os.path.join((DIRS or [os.path.dirname(LOGS[0])])[0], 'edge_dim.png')
 LABELS = {'a_edge32': '32 channels (control)', 'b_edge64': '64 channels',
           'a_control': 'as shipped (control)', 'b_pair64': 'pair head, hidden 64',
           'c_pair64_context': 'pair head, hidden 64, with the pair context (lr 1e-4)',
@@ -32,10 +42,13 @@ def load(path):
     return val
 
 
-paths = {os.path.basename(p)[:-len('.metrics.jsonl')]: p
-         for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))}
-paths.update({os.path.basename(os.path.dirname(p)): p
-              for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+paths = {}
+for DIR in DIRS:
+    paths.update({os.path.basename(p)[:-len('.metrics.jsonl')]: p
+                  for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))})
+    paths.update({os.path.basename(os.path.dirname(p)): p
+                  for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+paths.update({os.path.basename(p)[:-len('.metrics.jsonl')]: p for p in LOGS})
 # The stage-2 VAE's last validation (bench/vae_latent64/): every arm here continues it.
 shipped = [json.loads(l) for l in open(os.path.join(HERE, '..', 'vae_latent64', 'position80', 'ld64_vertex.metrics.jsonl'))
            if 'val_loss' in l][-1]

@@ -1,5 +1,5 @@
 """A copy of a shard build with only its train and val meshes of <= 512 vertices (all that VAE
-training reads), small enough to carry to a lent GPU machine:
+training reads), small enough to carry to a GPU machine:
 `python3 compact_data.py SHARDS OUT` (SHARDS: ~/.cache/meshflow/data/shards)."""
 import json, shutil, struct, sys, os, numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))

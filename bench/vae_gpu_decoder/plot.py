@@ -1,13 +1,19 @@
-"""Validation curves of the decoder-only arms trained on an H100 (bench/vae_gpu_decoder/*/)
-beside the shipped VAE's two CPU stages (bench/training/), against meshes seen (steps x batch):
-`python3 bench/vae_gpu_decoder/plot.py` writes gpu_decoder.png and prints the table."""
-import json, os
+"""Validation curves of the decoder-only arms trained on an H100 (ARM/metrics.jsonl in DIR)
+beside the two CPU stages of the VAE shipped then (docs/experiments/data/2026-11-24-vae-stage-1/
+and 2026-11-25-vae-decoder-stage/), against meshes seen (steps x batch):
+`python3 bench/vae_gpu_decoder/plot.py [DIR [PNG]]` writes PNG (default: gpu_decoder.png in DIR)
+and prints the table. DIR defaults to the experiment's data folder,
+docs/experiments/data/2026-11-26-gpu-decoder/; the arms' configurations stay beside this
+script (ARM/config.json)."""
+import json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-TRAINING = os.path.join(HERE, '..', 'training')
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
+DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(DATA, '2026-11-26-gpu-decoder')
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(DIR, 'gpu_decoder.png')
 
 
 def curve(path, batch, offset=0):
@@ -20,13 +26,14 @@ def curve(path, batch, offset=0):
 
 # name, metrics, batch, meshes already seen by the weights it started from, label
 runs = [
-    ('stage 1 (shipped encoder; CPU)', os.path.join(TRAINING, 'vae.metrics.jsonl'), 8, 0),
-    ('stage 2: shipped decoder (CPU)', os.path.join(TRAINING, 'vae_decoder.metrics.jsonl'), 8, 80_000),
-    ('H100: shipped decoder, continued', os.path.join(HERE, 'cont', 'metrics.jsonl'), 32, 192_000),
-    ('H100: new decoder 256 x 4', os.path.join(HERE, 'w256d4', 'metrics.jsonl'), 32, 0),
-    ('H100: new decoder 192 x 6', os.path.join(HERE, 'w192d6', 'metrics.jsonl'), 32, 0),
+    ('stage 1 (shipped encoder; CPU)', os.path.join(DATA, '2026-11-24-vae-stage-1', 'vae.metrics.jsonl'), 8, 0),
+    ('stage 2: shipped decoder (CPU)',
+     os.path.join(DATA, '2026-11-25-vae-decoder-stage', 'vae_decoder.metrics.jsonl'), 8, 80_000),
+    ('H100: shipped decoder, continued', os.path.join(DIR, 'cont', 'metrics.jsonl'), 32, 192_000),
+    ('H100: new decoder 256 x 4', os.path.join(DIR, 'w256d4', 'metrics.jsonl'), 32, 0),
+    ('H100: new decoder 192 x 6', os.path.join(DIR, 'w192d6', 'metrics.jsonl'), 32, 0),
 ]
-cpu_more = os.path.join(HERE, 'w256d4_cpu', 'metrics.jsonl')
+cpu_more = os.path.join(DIR, 'w256d4_cpu', 'metrics.jsonl')
 if os.path.exists(cpu_more):
     runs.append(('256 x 4, continued on the CPU', cpu_more, 16, 55_840))
 
@@ -47,4 +54,4 @@ axes[1].set_yscale('log'); axes[2].set_yscale('log'); axes[1].set_ylim(4e-3, 3e-
 axes[0].set_ylim(0.3, 0.7)
 axes[0].legend(fontsize=8, loc='lower right')
 fig.tight_layout()
-fig.savefig(os.path.join(HERE, 'gpu_decoder.png'), dpi=110)
+fig.savefig(PNG, dpi=110)

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The decoder-only arms of BENCHMARKS.md "A larger decoder on an H100" (issue 14, stop 30), as
-# they ran on a lent H100 (16 cores; burn-wgpu over Vulkan with the NVIDIA driver), from the
+# The decoder-only arms of docs/experiments/2026-11-26-gpu-decoder.md (issue 14, commit
+# 881f07d, 2026-11-26; results in docs/experiments/data/2026-11-26-gpu-decoder/), as they ran
+# on an H100 GPU machine (16 cores; burn-wgpu over Vulkan with the NVIDIA driver), from the
 # repository root, with these ignored files carried beside the tree:
 #   .dev/meshflow.xz   the release CLI of this commit, stripped (`objcopy --strip-all`), xz'd
 #   .dev/data.tgz      data/ = the shard build's train and val meshes of <= 512 vertices

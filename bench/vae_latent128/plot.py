@@ -1,21 +1,25 @@
 """The VAE at latent_dim 128 against the shipped 64, the shipped two-stage recipe otherwise
 (stage 1: the whole VAE, 10,000 steps; stage 2: the decoder alone with a vertex block, 16,000
 steps), seed and data the same, step for step on validation (64 meshes). `python3
-bench/vae_latent128/plot.py` writes latent128.png here and prints the table. Logs: the 64-wide
-run's in bench/vae_latent64/ (metrics.jsonl, position80/ld64_vertex.metrics.jsonl), the
-128-wide run's here (base.metrics.jsonl, vertex.metrics.jsonl: validation lines and every 10th
-step)."""
-import json, os
+bench/vae_latent128/plot.py [DIR [PNG]]` writes PNG (default: latent128.png in DIR) and prints
+the table. Logs: the 64-wide run's stage 1 in docs/experiments/data/2026-11-26-latent-64/
+(metrics.jsonl) and its stage 2 in bench/vae_latent64/position80/ld64_vertex.metrics.jsonl, the
+128-wide run's in DIR (base.metrics.jsonl, vertex.metrics.jsonl: validation lines and every
+10th step; default: the experiment's data folder, docs/experiments/data/2026-11-28-latent-128/)."""
+import json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
+DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(DATA, '2026-11-28-latent-128')
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(DIR, 'latent128.png')
 L64 = os.path.join(HERE, '..', 'vae_latent64')
-runs = [('latent_dim 64 (shipped)', (os.path.join(L64, 'metrics.jsonl'),
+runs = [('latent_dim 64 (shipped)', (os.path.join(DATA, '2026-11-26-latent-64', 'metrics.jsonl'),
                                      os.path.join(L64, 'position80', 'ld64_vertex.metrics.jsonl'))),
-        ('latent_dim 128', (os.path.join(HERE, 'base.metrics.jsonl'),
-                            os.path.join(HERE, 'vertex.metrics.jsonl')))]
+        ('latent_dim 128', (os.path.join(DIR, 'base.metrics.jsonl'),
+                            os.path.join(DIR, 'vertex.metrics.jsonl')))]
 
 
 def validation(logs):
@@ -48,7 +52,7 @@ axes[1].set_yscale('log')
 axes[2].set_yscale('log')
 axes[0].legend()
 fig.tight_layout()
-fig.savefig(os.path.join(HERE, 'latent128.png'), dpi=90)
+fig.savefig(PNG, dpi=90)
 
 by_step = {name: {r['step']: r for r in rows} for name, rows in curves.items()}
 names = list(by_step)

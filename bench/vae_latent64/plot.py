@@ -1,19 +1,23 @@
 """The VAE at latent_dim 64 against the shipped latent_dim 32, same two-stage recipe, seed and
 data, step for step: stage 1 trains the whole VAE for 10,000 steps, stage 2 the decoder alone
-for 14,000 more (its steps are drawn after stage 1's). `python3 bench/vae_latent64/plot.py`
-writes latent64.png and prints the table. Logs: the shipped VAE's in bench/training/, the
-64-wide one's here (metrics.jsonl, decoder.metrics.jsonl: stage 2's validation lines and every
-10th step)."""
-import json, os
+for 14,000 more (its steps are drawn after stage 1's). `python3 bench/vae_latent64/plot.py
+[DIR [PNG]]` writes PNG (default: latent64.png in DIR) and prints the table. Logs: the VAE
+shipped then in docs/experiments/data/2026-11-24-vae-stage-1/ (vae.metrics.jsonl) and
+2026-11-25-vae-decoder-stage/ (vae_decoder.metrics.jsonl), the 64-wide one's in DIR
+(metrics.jsonl, decoder.metrics.jsonl: stage 2's validation lines and every 10th step; default:
+the experiment's data folder, docs/experiments/data/2026-11-26-latent-64/)."""
+import json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-TRAINING = os.path.join(HERE, '..', 'training')
-runs = [('latent_dim 32 (shipped)', (os.path.join(TRAINING, 'vae.metrics.jsonl'),
-                                      os.path.join(TRAINING, 'vae_decoder.metrics.jsonl'))),
-        ('latent_dim 64', (os.path.join(HERE, 'metrics.jsonl'), os.path.join(HERE, 'decoder.metrics.jsonl')))]
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
+DIR = sys.argv[1] if len(sys.argv) > 1 else os.path.join(DATA, '2026-11-26-latent-64')
+PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(DIR, 'latent64.png')
+runs = [('latent_dim 32 (shipped)', (os.path.join(DATA, '2026-11-24-vae-stage-1', 'vae.metrics.jsonl'),
+                                      os.path.join(DATA, '2026-11-25-vae-decoder-stage', 'vae_decoder.metrics.jsonl'))),
+        ('latent_dim 64', (os.path.join(DIR, 'metrics.jsonl'), os.path.join(DIR, 'decoder.metrics.jsonl')))]
 
 
 def validation(logs):
@@ -38,7 +42,7 @@ for ax, title in zip(axes, ['validation edge F1', 'validation position MSE', 'va
     ax.set_title(title); ax.set_xlabel('step (batch 8); stage 2 (decoder alone) after 10,000')
     ax.axvline(10_000, color='grey', lw=0.8, ls=':'); ax.grid(alpha=.3)
 axes[1].set_yscale('log'); axes[2].set_yscale('log'); axes[0].legend(loc='lower right')
-fig.tight_layout(); fig.savefig(os.path.join(HERE, 'latent64.png'), dpi=110)
+fig.tight_layout(); fig.savefig(PNG, dpi=110)
 a, b = (curves[n] for n, _ in runs)
 common = sorted(set(a) & set(b))
 print('| step | F1 (32 / 64) | position MSE (32 / 64) | normal MSE (32 / 64) |')

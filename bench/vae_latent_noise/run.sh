@@ -4,9 +4,11 @@
 # CPU, one thread each, the same budget (2,000 steps of 8, lr 1e-4; about 8 minutes).
 #   bash bench/vae_latent_noise/run.sh RUNS
 # then, for each arm, a pair folder (weights/dit.* beside RUNS/<arm>/vae.*) and
-#   meshflow eval vae --split val --weights RUNS/<arm> -o bench/vae_latent_noise/vae_val_<arm>.json
-#   meshflow eval generate --split val --weights PAIR -o bench/vae_latent_noise/generate_val_<arm>.json
-# and `python3 bench/vae_latent_noise/plot.py` for latent_noise.png.
+#   meshflow eval vae --split val --weights RUNS/<arm> -o DIR/vae_val_<arm>.json
+#   meshflow eval generate --split val --weights PAIR -o DIR/generate_val_<arm>.json
+# with RUNS/<arm>/metrics.jsonl copied to DIR/<arm>.metrics.jsonl, and
+# `python3 bench/vae_latent_noise/plot.py DIR` for DIR/latent_noise.png. The logged run's files
+# are in docs/experiments/data/2026-11-27-latent-noise/, plot.py's default DIR.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 RUNS="${1:?usage: run.sh RUNS}"

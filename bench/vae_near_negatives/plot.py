@@ -3,17 +3,25 @@ weights at the same wall-clock budget (run.sh: round 1, three arms at once; roun
 arms at once). Draws validation edge F1 at the shipped tau = 0.6 and at the best tau of a grid
 (logged from round 2 on), that best tau and the position error against wall time into
 near_negatives.png, and prints each arm's last validation.
-`python3 bench/vae_near_negatives/plot.py [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
-ARM/metrics.jsonl (default: the logs kept here, validation lines and every 10th step); PNG is
-where the plot goes (default near_negatives.png here)."""
+`python3 bench/vae_near_negatives/plot.py [DIR | ARM.metrics.jsonl ...] [PNG]`: each DIR holds
+ARM.metrics.jsonl or ARM/metrics.jsonl, and a log can also be named alone (default: the logs of
+both rounds, validation lines and every 10th step, in the experiment's data folder,
+docs/experiments/data/2026-11-27-near-non-edges/); PNG (a name ending in .png) is where the
+plot goes (default near_negatives.png in the first DIR, or beside the first log)."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-DIR = sys.argv[1] if len(sys.argv) > 1 else HERE
-PNG = sys.argv[2] if len(sys.argv) > 2 else os.path.join(HERE, 'near_negatives.png')
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
+ARGS = sys.argv[1:]
+LOGS = [a for a in ARGS if a.endswith('.metrics.jsonl')]
+DIRS = [a for a in ARGS if not a.endswith('.png') and a not in LOGS]
+if not ARGS:
+    DIRS = [os.path.join(DATA, '2026-11-27-near-non-edges')]
+PNGS = [a for a in ARGS if a.endswith('.png')]
+PNG = PNGS[0] if PNGS else os.path.join((DIRS or [os.path.dirname(LOGS[0])])[0], 'near_negatives.png')
 LABELS = {'a_control': 'round 1: control (non-edges 0.25)', 'b_near1': 'round 1: near 1.0',
           'c_near3': 'round 1: near 3.0', 'd_near3_long': 'round 2: near 3.0, lr 2e-4',
           'e_near10_long': 'round 2: near 10.0, lr 2e-4',
@@ -29,16 +37,19 @@ def load(path):
     return val
 
 
-paths = {os.path.basename(p)[:-len('.metrics.jsonl')]: p
-         for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))}
-paths.update({os.path.basename(os.path.dirname(p)): p
-              for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+paths = {}
+for DIR in DIRS:
+    paths.update({os.path.basename(p)[:-len('.metrics.jsonl')]: p
+                  for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))})
+    paths.update({os.path.basename(os.path.dirname(p)): p
+                  for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+paths.update({os.path.basename(p)[:-len('.metrics.jsonl')]: p for p in LOGS})
 COLORS = dict(zip(LABELS, ['tab:blue', 'tab:orange', 'tab:green', 'tab:red', 'tab:purple',
                           'tab:purple', 'tab:brown']))
 fig, axes = plt.subplots(1, 4, figsize=(21, 4.4))
-# The shipped decoder's last validation (stage 2, bench/training/): its F1 is flat in tau
-# (the tau sweep of the whole split), so its F1 at 0.6 stands for its best.
-shipped = [json.loads(l) for l in open(os.path.join(HERE, '..', 'training', 'vae_decoder.metrics.jsonl'))
+# The shipped decoder's last validation (stage 2, docs/experiments/data/2026-11-25-vae-decoder-stage/):
+# its F1 is flat in tau (the tau sweep of the whole split), so its F1 at 0.6 stands for its best.
+shipped = [json.loads(l) for l in open(os.path.join(DATA, '2026-11-25-vae-decoder-stage', 'vae_decoder.metrics.jsonl'))
            if 'val_loss' in l][-1]['edge_f1']
 for ax in axes[:2]:
     ax.axhline(shipped, color='grey', ls='--', lw=1, label=f'shipped decoder ({shipped:.3f})')

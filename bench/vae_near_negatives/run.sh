@@ -4,7 +4,8 @@
 # CPU, one thread each, each with the same wall-clock budget (BUDGET_S, default 2400 s).
 #   bash bench/vae_near_negatives/run.sh RUNS                                   # round 1
 #   BUDGET_S=3300 bash bench/vae_near_negatives/run.sh RUNS d_near3_long e_near10_long  # round 2
-# then `python3 bench/vae_near_negatives/plot.py RUNS` for near_negatives.png and the table,
+# then `python3 bench/vae_near_negatives/plot.py RUNS` for RUNS/near_negatives.png and the table
+# (without RUNS it draws the logged rounds, docs/experiments/data/2026-11-27-near-non-edges/),
 # and tau_sweep.sh to score each result on the validation split at several thresholds.
 # CONFIGS names another folder of ARM.json files (bench/vae_vertex_blocks/run.sh); INIT the
 # weights to continue (default: the shipped ones).

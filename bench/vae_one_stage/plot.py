@@ -1,28 +1,35 @@
 """One decoder stage against the shipped two: validation edge F1 (at the best tau of the grid)
 and position MSE against decoder-only wall time, for the arms of run.sh and for the shipped
-path (stage 2, then stage 3 from its end; bench/training/). Stage 2 logged F1 at tau 0.6 only,
-which the whole-split tau sweep found flat in tau for it, so that stands for its best.
-`python3 bench/vae_one_stage/plot.py [--steps] [DIR [PNG]]`: DIR holds ARM.metrics.jsonl or
-ARM/metrics.jsonl (default: the thinned logs kept here, which the plot one_stage.png draws;
-the position-weight pair: `plot.py bench/vae_one_stage/position_weight`, which writes
-position_weight.png beside it; the full-length position weights: `plot.py
---steps bench/vae_one_stage/position_full`; latent 64 against 32 at the shipped recipe: `plot.py
---steps bench/vae_latent64/position80`); prints each curve's last validation. `--steps`
-puts training steps on the x axis instead of wall time, for arms that did not run under the
-same conditions (the position_full arms ran alone, beside CI or beside each other)."""
+path (stage 2, then stage 3 from its end; docs/experiments/data/2026-11-25-vae-decoder-stage/
+and 2026-11-27-vertex-attention/). Stage 2 logged F1 at tau 0.6 only, which the whole-split tau
+sweep found flat in tau for it, so that stands for its best.
+`python3 bench/vae_one_stage/plot.py [--steps] [DIR ...] [PNG]`: each DIR holds
+ARM.metrics.jsonl or ARM/metrics.jsonl (default: the thinned logs of
+docs/experiments/data/2026-11-27-one-decoder-stage/, which one_stage.png there draws; with D
+for docs/experiments/data: the position-weight pair, `plot.py D/2026-11-27-one-decoder-stage/position_weight`,
+which writes position_weight.png beside it; the full-length position weights, `plot.py --steps
+D/2026-11-27-position-weight/position_full`; latent 64 against 32 at the shipped recipe,
+`plot.py --steps D/2026-11-27-latent-64-decoder/position80 bench/vae_latent64/position80`);
+PNG (a name ending in .png) defaults to DIR.png beside the first DIR, or one_stage.png for the
+default. Prints each curve's last validation. `--steps` puts training steps on the x axis
+instead of wall time, for arms that did not run under the same conditions (the position_full
+arms ran alone, beside CI or beside each other)."""
 import glob, json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
+DATA = os.path.join(os.path.dirname(os.path.dirname(HERE)), 'docs', 'experiments', 'data')
 ARGS = [a for a in sys.argv[1:] if a != '--steps']
 BY_STEPS = '--steps' in sys.argv[1:]
-DIR = ARGS[0] if ARGS else HERE
-# Default: one_stage.png here for the logs kept here, else DIR.png beside DIR.
-PNG = ARGS[1] if len(ARGS) > 1 else (
-    os.path.join(HERE, 'one_stage.png') if DIR == HERE else os.path.normpath(DIR) + '.png')
-TRAINING = os.path.join(HERE, '..', 'training')
+DIRS = [a for a in ARGS if not a.endswith('.png')]
+PNGS = [a for a in ARGS if a.endswith('.png')]
+# Default: one_stage.png beside the logs of the one-stage arms, else DIR.png beside the first DIR.
+DEFAULT = os.path.join(DATA, '2026-11-27-one-decoder-stage')
+PNG = PNGS[0] if PNGS else (
+    os.path.join(DEFAULT, 'one_stage.png') if not DIRS else os.path.normpath(DIRS[0]) + '.png')
+DIRS = DIRS or [DEFAULT]
 LABELS = {'a_vertex1': 'one stage, 1 vertex block (16,000 steps)',
           'b_vertex2': 'one stage, 2 vertex blocks (12,000 steps)',
           'c_short_position10': 'one stage, 1 block, 8,000 steps, position weight 10',
@@ -47,15 +54,18 @@ def load(path, offset=0.0, step_offset=0):
     return val
 
 
-stage2 = load(os.path.join(TRAINING, 'vae_decoder.metrics.jsonl'))
+stage2 = load(os.path.join(DATA, '2026-11-25-vae-decoder-stage', 'vae_decoder.metrics.jsonl'))
 stage2_s = stage2[-1]['minutes'] * 60
 stage2_steps = stage2[-1]['step']
-shipped = stage2 + load(os.path.join(TRAINING, 'vae_vertex.metrics.jsonl'), stage2_s, stage2_steps)
+shipped = stage2 + load(os.path.join(DATA, '2026-11-27-vertex-attention', 'vae_vertex.metrics.jsonl'),
+                        stage2_s, stage2_steps)
 curves = {'shipped: stage 2 (alone), then stage 3 (alone)': shipped}
-paths = {os.path.basename(p)[:-len('.metrics.jsonl')]: p
-         for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))}
-paths.update({os.path.basename(os.path.dirname(p)): p
-              for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
+paths = {}
+for DIR in DIRS:
+    paths.update({os.path.basename(p)[:-len('.metrics.jsonl')]: p
+                  for p in glob.glob(os.path.join(DIR, '*.metrics.jsonl'))})
+    paths.update({os.path.basename(os.path.dirname(p)): p
+                  for p in glob.glob(os.path.join(DIR, '*', 'metrics.jsonl'))})
 for arm in sorted(paths):
     curves[LABELS.get(arm, arm)] = load(paths[arm])
 

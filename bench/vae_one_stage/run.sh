@@ -10,9 +10,9 @@
 # The full-length candidate that pair points to (one block, 16,000 steps, position weight 20),
 # alone on both cores; it resumes from its checkpoints when interrupted:
 #   meshflow train vae --out RUN --init DIR --config bench/vae_one_stage/e_vertex1_position20.json
-# and its position-weight-40 twin (f_vertex1_position40.json, shipped at stop 38 as
-# weights/vae.vertex.train.json), run beside it on one thread (RAYON_NUM_THREADS=1); stop 38
-# started g_vertex1_position80.json (position weight 80) the same way; stop 39 resumed it beside
+# and its position-weight-40 twin (f_vertex1_position40.json, shipped in commit aa27690 as
+# weights/vae.vertex.train.json), run beside it on one thread (RAYON_NUM_THREADS=1); commit 97863bc
+# started g_vertex1_position80.json (position weight 80) the same way; commit 726955e resumed it beside
 # h_vertex1_position160.json (position weight 160), one thread each;
 # then `python3 bench/vae_one_stage/plot.py --steps DIR` and bench/vae_near_negatives/tau_sweep.sh.
 set -euo pipefail

@@ -1,16 +1,18 @@
-"""The end-to-end reproduction (`bash scripts/train_vae.sh RUN`, stop 45) against the runs it
-replaces. Stage 2: 7,000 steps here against the 16,000 of the VAE shipped until stop 44
+"""The end-to-end reproduction (`bash scripts/train_vae.sh RUN`, commit f9b9fd3, 2026-11-28) against the runs it
+replaces. Stage 2: 7,000 steps here against the 16,000 of the VAE shipped until commit 8e0d5bb
 (bench/vae_latent64/position80/ld64_vertex); stage 3: this stage 2 continued by the pair-head
 stage against the same stage on the 16,000-step stage 2 (bench/vae_pair_lr/e_lr3e4).
 Validation (64 meshes) edge F1 at the best tau of the grid and position MSE against steps.
-`python3 bench/vae_repro/plot.py [PNG]` (reads the thinned logs beside it)."""
+`python3 bench/vae_repro/plot.py [PNG]` (reads the thinned logs beside it; PNG defaults to
+docs/experiments/data/2026-11-28-vae-recipe-147-minutes/repro.png)."""
 import json, os, sys
 import matplotlib
 matplotlib.use('Agg')
 import matplotlib.pyplot as plt
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-PNG = sys.argv[1] if len(sys.argv) > 1 else os.path.join(HERE, 'repro.png')
+PNG = sys.argv[1] if len(sys.argv) > 1 else os.path.join(
+    HERE, '..', '..', 'docs', 'experiments', 'data', '2026-11-28-vae-recipe-147-minutes', 'repro.png')
 
 
 def val(path):
@@ -20,10 +22,10 @@ def val(path):
 stages = [
     ('stage 2 (decoder, vertex block)', [
         ('7,000 steps (this command)', os.path.join(HERE, 'vertex.metrics.jsonl')),
-        ('16,000 steps (shipped until stop 44)', os.path.join(HERE, '..', 'vae_latent64', 'position80', 'ld64_vertex.metrics.jsonl'))]),
+        ('16,000 steps (shipped until 8e0d5bb)', os.path.join(HERE, '..', 'vae_latent64', 'position80', 'ld64_vertex.metrics.jsonl'))]),
     ('stage 3 (pair head, lr 3e-4)', [
         ('on the 7,000-step stage 2 (this command)', os.path.join(HERE, 'pair.metrics.jsonl')),
-        ('on the 16,000-step stage 2 (shipped until stop 44)', os.path.join(HERE, '..', 'vae_pair_lr', 'e_lr3e4.metrics.jsonl'))]),
+        ('on the 16,000-step stage 2 (shipped until 8e0d5bb)', os.path.join(HERE, '..', 'vae_pair_lr', 'e_lr3e4.metrics.jsonl'))]),
 ]
 fig, axes = plt.subplots(2, 2, figsize=(11, 7.5))
 for col, (title, runs) in enumerate(stages):

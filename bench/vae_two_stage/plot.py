@@ -1,12 +1,12 @@
 """The two-stage candidate (`bash bench/vae_two_stage/run.sh RUN`) against the three-stage
-recipe. Left: stage 1, one pass per batch (stop 45's reproduction, bench/vae_repro) against two
+recipe. Left: stage 1, one pass per batch (the reproduction of commit f9b9fd3, bench/vae_repro) against two
 half-batches at once (this run), by step. Middle and right: the decoder after stage 1, by
-decoder minutes on this session's host, modelled as steps x the measured step time of each
+decoder minutes on the 2-core AMD EPYC VM of the run, modelled as steps x the measured step time of each
 stage with `--data-parallel 2` (`meshflow bench train-vae`, 30 steps: 346 ms for the
 vertex-block stage, 369 ms for a stage with the pair head):
 - shipped: 16,000 steps of stage 2 (bench/vae_latent64/position80/ld64_vertex), then 7,000 of
   stage 3 (bench/vae_pair_lr/e_lr3e4);
-- stop 45: 7,000 + 6,000 (bench/vae_repro/vertex, pair);
+- f9b9fd3: 7,000 + 6,000 (bench/vae_repro/vertex, pair);
 - this run: one 13,500-step stage with the pair head from the start.
 Validation (64 meshes): edge F1 at the best tau of the grid, position MSE.
 `python3 bench/vae_two_stage/plot.py RUN_METRICS_DIR [PNG]` (default PNG: two_stage.png beside this script), where RUN_METRICS_DIR holds
@@ -41,12 +41,12 @@ def chain(parts):
 decoders = [
     ('shipped: 16,000 + 7,000', [(os.path.join(BENCH, 'vae_latent64/position80/ld64_vertex.metrics.jsonl'), MS_VERTEX),
                                  (os.path.join(BENCH, 'vae_pair_lr/e_lr3e4.metrics.jsonl'), MS_PAIR)]),
-    ('stop 45: 7,000 + 6,000', [(os.path.join(BENCH, 'vae_repro/vertex.metrics.jsonl'), MS_VERTEX),
+    ('f9b9fd3: 7,000 + 6,000', [(os.path.join(BENCH, 'vae_repro/vertex.metrics.jsonl'), MS_VERTEX),
                                 (os.path.join(BENCH, 'vae_repro/pair.metrics.jsonl'), MS_PAIR)]),
     ('one stage, 13,500 (this run)', [(os.path.join(RUN, 'decoder.metrics.jsonl'), MS_PAIR)]),
 ]
 fig, axes = plt.subplots(1, 3, figsize=(15, 4.6))
-for label, path in [('one pass (stop 45)', os.path.join(BENCH, 'vae_repro/base.metrics.jsonl')),
+for label, path in [('one pass (f9b9fd3)', os.path.join(BENCH, 'vae_repro/base.metrics.jsonl')),
                     ('two half-batches (this run)', os.path.join(RUN, 'base.metrics.jsonl'))]:
     if not os.path.exists(path):
         continue
@@ -70,7 +70,7 @@ axes[1].set_ylabel('validation edge F1 (best tau)')
 axes[2].set_ylabel('validation position MSE')
 axes[2].set_yscale('log')
 for ax in axes[1:]:
-    ax.set_xlabel('decoder minutes on this host (steps x step time, 2 half-batches)')
+    ax.set_xlabel('decoder minutes on the 2-core AMD EPYC VM (steps x step time, 2 half-batches)')
 for ax in axes:
     ax.grid(alpha=0.3)
     ax.legend(fontsize=8)

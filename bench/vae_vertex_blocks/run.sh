@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Vertex blocks (VaeConfig::num_layers_vertex): the shipped decoder continued decoder-only with
-# near non-edges weighted 10 (the best recipe of stop 35), without (a_near10) and with one
+# near non-edges weighted 10 (the best recipe of commit 2342ade, 2026-11-27), without (a_near10) and with one
 # self-attention block over the vertex tokens (b_near10_vertex1), both at once on the 2 cores,
 # one thread each, the same wall-clock budget (BUDGET_S, default 3000 s).
 #   bash bench/vae_vertex_blocks/run.sh RUNS

@@ -76,7 +76,8 @@ export interface GenerateOptions {
   /**
    * Candidates drawn from different noise in one batch (1 to 16, default 12); the one kept
    * lies closest to the points, each hole counting against it. Each costs a generation; on
-   * the test split 12 give 1.3 holes a mesh against 3.8 for one (BENCHMARKS.md).
+   * the test split 12 give 1.3 holes a mesh against 3.8 for one
+   * (docs/experiments/2026-11-26-candidates-and-steps.md).
    */
   samples?: number;
   /**

@@ -99,7 +99,8 @@ export async function clearWeightsCache() {
 }
 
 // Adapters that are software renderers: on them the CPU path inside wasm is far faster (a
-// generation took 166 s on SwiftShader against 6.5 s on the CPU path, BENCHMARKS.md).
+// generation took 166 s on SwiftShader against 6.5 s on the CPU path,
+// docs/experiments/2026-11-22-browser-first-timing.md).
 const SOFTWARE_ADAPTER = /swiftshader|llvmpipe|lavapipe|softpipe|software|basic render|\bwarp\b/i;
 // Vendors whose adapters are real GPUs.
 const GPU_VENDOR = /nvidia|\bamd\b|\bati\b|intel|apple|qualcomm|\barm\b|imagination|broadcom|samsung|mesa|microsoft|vivante/i;

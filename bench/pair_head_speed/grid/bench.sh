@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Generation per stage, side by side in one run (issue 15 item 8, stop 49):
+# Generation per stage, side by side in one run (issue 15 item 8, commit a4df796, 2026-11-29):
 #   bash bench/pair_head_speed/grid/bench.sh BEFORE AFTER
 # BEFORE and AFTER are two builds of `meshflow` (here: main before and after the overlap grid).
 # Three arms, alternated, two rounds, `meshflow bench generate --runs 20` on the bundled

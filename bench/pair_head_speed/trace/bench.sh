@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Stage 4 per edge source, two builds side by side (issue 15 item 8, stop 49):
+# Stage 4 per edge source, two builds side by side (issue 15 item 8, commit a4df796, 2026-11-29):
 #   bash bench/pair_head_speed/trace/bench.sh BEFORE AFTER
 # For the bundled lantern and the page's five examples, `meshflow bench pair-head --seconds
 # 0.5` with BEFORE then AFTER (alternated per input): both decode the same candidates, so

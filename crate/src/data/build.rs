@@ -12,6 +12,7 @@
 //! and manifest are byte-identical across runs for the same inputs.
 
 use std::collections::{BTreeMap, HashMap};
+use std::fmt;
 use std::path::Path;
 use std::time::Instant;
 
@@ -69,6 +70,47 @@ pub struct BuildSummary {
     pub skipped: BTreeMap<String, u64>,
     pub sources: BTreeMap<String, SourceSummary>,
     pub shards: Vec<ShardSummary>,
+}
+
+impl BuildSummary {
+    /// The table `meshflow data build` prints: per source and in total, the skip reasons, and
+    /// the shards written to `out` in `seconds`.
+    pub fn report<'a>(&'a self, out: &'a Path, seconds: f64) -> impl fmt::Display + 'a {
+        fmt::from_fn(move |f| {
+            let row = |f: &mut fmt::Formatter<'_>,
+                       name: &str,
+                       passed: &str,
+                       kept: u64,
+                       splits: &BTreeMap<String, u64>| {
+                let g = |k: &str| splits.get(k).copied().unwrap_or(0);
+                let (train, val, test) = (g("train"), g("val"), g("test"));
+                writeln!(
+                    f,
+                    "{name:<24} {passed:>7} {kept:>7} {train:>6} {val:>6} {test:>6}"
+                )
+            };
+            let (s, p, k, tr, v, te) = ("source", "passed", "kept", "train", "val", "test");
+            writeln!(f, "{s:<24} {p:>7} {k:>7} {tr:>6} {v:>6} {te:>6}")?;
+            for (name, src) in &self.sources {
+                row(
+                    f,
+                    name,
+                    &src.passed_filter.to_string(),
+                    src.kept,
+                    &src.splits,
+                )?;
+            }
+            row(f, "total", "", self.kept, &self.splits)?;
+            writeln!(f, "skipped:")?;
+            for (reason, n) in &self.skipped {
+                writeln!(f, "  {reason:<40}{n:>8}")?;
+            }
+            let bytes: u64 = self.shards.iter().map(|x| x.bytes).sum();
+            let mib = bytes as f64 / (1 << 20) as f64;
+            let (n, out) = (self.shards.len(), out.display());
+            write!(f, "{n} shards, {mib:.1} MiB, in {out}; {seconds:.1} s")
+        })
+    }
 }
 
 /// Builds shards, `manifest.jsonl`, `build.json` and the attribution in `out` from `packages`.
@@ -298,6 +340,16 @@ mod tests {
 
         let src = &a.sources["fake-data"];
         assert_eq!(src.skipped.get("unsupported_format"), Some(&1));
+        let text = a.report(Path::new("out-a"), 1.0).to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        let header = "source                    passed    kept  train    val   test";
+        assert_eq!(lines[0], header);
+        assert!(lines[1].starts_with("fake-data                "), "{text}");
+        assert!(
+            text.contains("\nskipped:\n  unsupported_format  "),
+            "{text}"
+        );
+        assert!(text.ends_with(" MiB, in out-a; 1.0 s"), "{text}");
         assert_eq!(src.unsupported_extensions.get("iqe"), Some(&1));
         assert_eq!(src.skipped.get("collision"), Some(&1));
         assert_eq!(src.skipped.get("duplicate"), Some(&1), "{:?}", src.skipped);

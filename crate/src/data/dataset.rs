@@ -475,6 +475,19 @@ pub struct ManifestEntry {
     pub content_hash: String,
 }
 
+/// The entry as `meshflow data show` names it: id, source, path and counts.
+impl fmt::Display for ManifestEntry {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (id, package, version, path) =
+            (&self.id, &self.package, &self.package_version, &self.path);
+        let (v, faces) = (self.vertices, self.faces);
+        write!(
+            f,
+            "{id} ({package} {version}, {path}): {v} vertices, {faces} faces"
+        )
+    }
+}
+
 /// Licenses (SPDX ids, as the manifest writes them) that allow redistribution without
 /// copyleft: meshes under them may go into fixtures and examples, with their license text.
 pub const PERMISSIVE_LICENSES: [&str; 6] = [
@@ -714,6 +727,19 @@ mod tests {
     use super::*;
     use crate::geometry::primitives::{grid, icosphere, octahedron};
     use proptest::prelude::*;
+
+    #[test]
+    fn an_entry_reads_as_id_source_and_counts() {
+        let dir =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/fixtures/dataset");
+        let e = &crate::data::shards::read_manifest(&dir).unwrap()[0];
+        let text = format!(
+            "{} ({} {}, {}): ",
+            e.id, e.package, e.package_version, e.path
+        );
+        let counts = format!("{} vertices, {} faces", e.vertices, e.faces);
+        assert_eq!(e.to_string(), text + &counts);
+    }
 
     fn sample_meshes() -> Vec<Mesh> {
         vec![octahedron(), icosphere(1), Mesh::default(), grid(3, 2)]

@@ -1,6 +1,7 @@
 //! Counts of a build: `stats.csv` (one row per mesh) and `stats.png` (histograms of vertex
 //! and face counts over the filter's range), to see what the filter lets through.
 
+use std::fmt;
 use std::path::{Path, PathBuf};
 
 use crate::data::dataset::FilterOptions;
@@ -25,6 +26,21 @@ pub struct StatsSummary {
     pub max_vertices: usize,
     pub max_faces: usize,
     pub bins: usize,
+}
+
+/// The two lines `meshflow data stats` prints: the medians and what was written.
+impl fmt::Display for StatsSummary {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (n, v, faces) = (self.meshes, self.median_vertices, self.median_faces);
+        writeln!(f, "{n} meshes; median {v} vertices, {faces} faces")?;
+        let (csv, png) = (self.csv.display(), self.png.display());
+        let (v, faces, bins) = (self.max_vertices, self.max_faces, self.bins);
+        write!(
+            f,
+            "wrote {csv} and {png} (top: vertices 0..{v}, bottom: faces 0..{faces}, "
+        )?;
+        write!(f, "{bins} bins each)")
+    }
 }
 
 /// One histogram panel: `values` binned over `0..=max`.
@@ -167,6 +183,25 @@ mod tests {
     use crate::data::export::export_mesh;
     use crate::data::test_support::{fake_package, temp_dir};
     use crate::io::Limits;
+
+    #[test]
+    fn the_summary_reads_as_two_lines() {
+        let s = StatsSummary {
+            meshes: 7,
+            median_vertices: 40,
+            median_faces: 60,
+            csv: "d/stats.csv".into(),
+            png: "d/stats.png".into(),
+            max_vertices: 4096,
+            max_faces: 8000,
+            bins: 50,
+        };
+        assert_eq!(
+            s.to_string(),
+            "7 meshes; median 40 vertices, 60 faces\nwrote d/stats.csv and d/stats.png (top: \
+             vertices 0..4096, bottom: faces 0..8000, 50 bins each)"
+        );
+    }
 
     #[test]
     fn histogram_png_has_fixed_size_and_is_deterministic() {

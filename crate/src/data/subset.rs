@@ -3,6 +3,7 @@
 //! (`tests/fixtures/dataset` was written by it).
 
 use std::collections::{BTreeMap, BTreeSet, HashSet, VecDeque};
+use std::fmt;
 use std::path::Path;
 
 use serde::Serialize;
@@ -47,6 +48,24 @@ pub struct SubsetSummary {
     pub splits: BTreeMap<String, u64>,
     pub packages: BTreeMap<String, u64>,
     pub shards: Vec<ShardSummary>,
+}
+
+impl SubsetSummary {
+    /// What `meshflow data subset` prints: the counts, per package, and the shards in `out`.
+    pub fn report<'a>(&'a self, out: &'a Path) -> impl fmt::Display + 'a {
+        fmt::from_fn(move |f| {
+            let g = |k: &str| self.splits.get(k).copied().unwrap_or(0);
+            let (train, val, test) = (g("train"), g("val"), g("test"));
+            let (kept, packages, out) = (self.kept, self.packages.len(), out.display());
+            write!(f, "{kept} meshes ({train} train, {val} val, {test} test) ")?;
+            writeln!(f, "from {packages} packages -> {out}")?;
+            for (p, n) in &self.packages {
+                writeln!(f, "  {p:<24}{n:>4}")?;
+            }
+            let bytes: u64 = self.shards.iter().map(|x| x.bytes).sum();
+            write!(f, "{} shards, {bytes} bytes", self.shards.len())
+        })
+    }
 }
 
 /// Picks the subset's entries: for each split, the permissively licensed
@@ -176,6 +195,12 @@ mod tests {
             max_vertices: 300,
         };
         let s = subset(&dir, &root, &opts).unwrap();
+        let text = s.report(Path::new("sub")).to_string();
+        let first = format!("{} meshes (6 train, 1 val, 1 test) from ", s.kept);
+        assert!(
+            text.starts_with(&first) && text.contains(" packages -> sub\n  "),
+            "{text}"
+        );
         let entries = read_manifest(&root).unwrap();
         assert_eq!(entries.len(), s.kept);
         let all = read_manifest(&dir).unwrap();

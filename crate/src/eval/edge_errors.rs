@@ -1,6 +1,7 @@
 //! Where a reconstruction's wrong edges are: each predicted edge that the ground truth lacks is
 //! put in one class by how its two vertices relate in the ground truth. Edge F1 says how many
-//! edges are wrong; this says which kind of mistake bounds it (BENCHMARKS.md, issue 14).
+//! edges are wrong; this says which kind of mistake bounds it (issue 14;
+//! docs/experiments/2026-11-27-wrong-edges.md).
 //!
 //! Classes, first match wins, for a wrong edge `(i, j)`:
 //! 1. **quad diagonal**: `i` and `j` have two common neighbours `k`, `l` that are joined, so
@@ -103,7 +104,7 @@ pub fn wrong_edge_kinds(predicted: &[Edge], actual: &[Edge], positions: &[Vec3])
 /// `i-k-l`, `j-k-l` whose shared edge `k-l` is the diagonal the artist took and `i-j` (not an
 /// edge) the one not taken. Counts over every such quad, summed across meshes; the shares
 /// say whether the artist's choice is in the scores at all, and whether the threshold can
-/// separate it (BENCHMARKS.md, issue 14).
+/// separate it (issue 14; docs/experiments/2026-11-28-edge-f1-limit.md).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct QuadDiagonals {
     pub quads: usize,

@@ -12,6 +12,8 @@
 //! Nearest neighbours come from an [`rstar`] R-tree bulk-loaded with `f64` coordinates, so a
 //! distance is exactly what a brute-force search in `f64` gives.
 
+use std::fmt;
+
 use glam::Vec3;
 use rstar::RTree;
 use rstar::primitives::GeomWithData;
@@ -256,6 +258,54 @@ pub struct Comparison {
     pub gt_is_point_cloud: bool,
     pub pred_topology: TopologyReport,
     pub gt_topology: TopologyReport,
+}
+
+/// The comparison as `meshflow compare` prints it under the two file names.
+impl fmt::Display for Comparison {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use crate::geometry::topology::{json, write_fields};
+        write_fields(
+            f,
+            &[
+                ("chamfer x100", json(&self.chamfer_x100)),
+                ("hausdorff x100", json(&self.hausdorff_x100)),
+                ("normal consistency", json(&self.normal_consistency)),
+                ("f scores", json(&self.f_scores)),
+                ("samples", json(&self.samples)),
+                ("pred seed", json(&self.pred_seed)),
+                ("gt seed", json(&self.gt_seed)),
+                ("pred is point cloud", json(&self.pred_is_point_cloud)),
+                ("gt is point cloud", json(&self.gt_is_point_cloud)),
+            ],
+        )?;
+        let s = &self.sharp;
+        let ecd = s
+            .edge_chamfer_x100
+            .map_or("none (neither has sharp edges)".to_string(), |d| {
+                format!("{d:.3}")
+            });
+        let (pred, gt) = (s.pred_sharp_edges, s.gt_sharp_edges);
+        writeln!(f)?;
+        writeln!(
+            f,
+            "  sharp edges (> 30 deg)      {pred} predicted, {gt} ground truth"
+        )?;
+        writeln!(f, "  edge chamfer x100           {ecd}")?;
+        let e = &s.edge_f_score;
+        writeln!(
+            f,
+            "  edge f-score @0.01          {:.4} (precision {:.4}, recall {:.4})",
+            e.f_score, e.precision, e.recall
+        )?;
+        let (pred, gt) = (self.pred_topology.faces, self.gt_topology.faces);
+        let ratio = pred as f64 / gt.max(1) as f64;
+        writeln!(
+            f,
+            "  faces                       {pred} predicted, {gt} ground truth ({ratio:.2}x)"
+        )?;
+        writeln!(f, "{}", self.pred_topology.titled("prediction topology"))?;
+        write!(f, "{}", self.gt_topology.titled("ground-truth topology"))
+    }
 }
 
 /// Samples of one side: points and (if known) unit normals.
@@ -526,6 +576,20 @@ pub fn normal_distance(pred_normals: &[Vec3], gt_normals: &[Vec3]) -> Result<f64
 mod tests {
     use super::*;
     use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
+
+    #[test]
+    fn the_text_of_a_comparison_lists_its_figures() {
+        let c = compare_meshes(&cube(), &cube(), &CompareOptions::default()).unwrap();
+        let text = c.to_string();
+        assert!(text.starts_with("  chamfer x100                "), "{text}");
+        assert!(
+            text.contains("\n  samples                     5000\n"),
+            "{text}"
+        );
+        let faces = "\n  faces                       12 predicted, 12 ground truth (1.00x)\n";
+        assert!(text.contains(faces), "{text}");
+        assert!(text.contains("\nprediction topology\n  vertices"), "{text}");
+    }
 
     fn brute(a: &[Vec3], b: &[Vec3]) -> Distances {
         let one = |from: &[Vec3], to: &[Vec3]| {

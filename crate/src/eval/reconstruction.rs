@@ -2,6 +2,7 @@
 //! figures (vertex and normal distance, edge precision / recall / F1), CD/HD x100 by
 //! docs/design.md section 3 and the topology of the extracted meshes, per mesh and averaged.
 
+use std::fmt;
 use std::path::Path;
 
 use burn::tensor::Device;
@@ -109,6 +110,87 @@ pub struct VaeEvalReport {
     pub per_mesh: Vec<(String, ReconstructionMetrics)>,
 }
 
+/// The summary `meshflow eval vae` prints: skipped meshes first, then the means and buckets.
+impl fmt::Display for VaeEvalReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let s = &self.all;
+        for reason in &self.skipped {
+            writeln!(f, "skipped: {reason}")?;
+        }
+        let (vd, nd, f1p) = (
+            s.vertex_distance_x100,
+            s.normal_distance_x100,
+            s.edge_f1_pooled,
+        );
+        let (p, r, f1) = (s.edge_precision, s.edge_recall, s.edge_f1);
+        let (cd, hd) = (s.surface.chamfer_x100, s.surface.hausdorff_x100);
+        write!(
+            f,
+            "{} meshes: vertex x100 {vd:.3}, normal x100 {nd:.3}, ",
+            s.meshes
+        )?;
+        write!(
+            f,
+            "edge P/R/F1 {p:.3}/{r:.3}/{f1:.3} (pooled F1 {f1p:.3}), "
+        )?;
+        writeln!(f, "CD x100 {cd:.3}, HD x100 {hd:.3}")?;
+        let percent = |a: usize, b: usize| 100.0 * a as f64 / b.max(1) as f64;
+        let w = &s.wrong_edges;
+        let share = |k: usize| percent(k, w.total());
+        let (qd, two) = (share(w.quad_diagonal), share(w.two_hops));
+        let (near, far) = (share(w.near_in_space), share(w.far));
+        write!(
+            f,
+            "  wrong edges: {qd:.0}% quad diagonals, {two:.0}% two hops, "
+        )?;
+        writeln!(
+            f,
+            "{near:.0}% near in space, {far:.0}% far (of {})",
+            w.total()
+        )?;
+        let q = &s.quad_diagonals;
+        let higher = percent(q.taken_scores_higher, q.quads);
+        let both = percent(q.both_above_taken_higher, q.both_above_threshold);
+        write!(
+            f,
+            "  quads' diagonals: the artist's scores higher in {higher:.0}% of {}; ",
+            q.quads
+        )?;
+        write!(f, "both pass tau in {}, ", q.both_above_threshold)?;
+        writeln!(f, "the artist's higher in {both:.0}% of those")?;
+        let (mp, mr, mf) = (s.mesh_edge_precision, s.mesh_edge_recall, s.mesh_edge_f1);
+        writeln!(
+            f,
+            "  the extracted meshes' edges: P/R/F1 {mp:.3}/{mr:.3}/{mf:.3}"
+        )?;
+        for (name, b) in &self.buckets {
+            let (cd, hd) = (b.surface.chamfer_x100, b.surface.hausdorff_x100);
+            write!(
+                f,
+                "  {name:>6} vertices: {:4} meshes, F1 {:.3}, ",
+                b.meshes, b.edge_f1
+            )?;
+            writeln!(f, "CD x100 {cd:.3}, HD x100 {hd:.3}")?;
+        }
+        let t = &s.surface;
+        let (out, gt) = (t.faces_out, t.faces_in);
+        write!(
+            f,
+            "  extracted topology (mean per mesh): {out:.1} faces (gt {gt:.1}), "
+        )?;
+        write!(
+            f,
+            "{:.2} non-manifold edges, {:.2} holes, ",
+            t.non_manifold_edges, t.holes
+        )?;
+        write!(
+            f,
+            "{:.2} components; {} with no faces",
+            t.components, t.no_faces
+        )
+    }
+}
+
 /// Reconstructs every mesh of `set` with `vae` in batches of [`BATCH`], extracting with
 /// `extract`, and summarises. A batch that fails as a whole (e.g. an extracted mesh with no
 /// faces to sample) is retried mesh by mesh, so only the bad mesh is skipped (and listed).
@@ -181,4 +263,34 @@ pub fn evaluate_vae(
         buckets,
         per_mesh,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_report_lists_skipped_meshes_first() {
+        let report = VaeEvalReport {
+            weights: String::new(),
+            weights_sha256: String::new(),
+            source: String::new(),
+            token_compression: 1.0,
+            float_compression: 1.0,
+            skipped: vec!["a.obj: too big".into()],
+            all: ReconstructionSummary::default(),
+            buckets: vec![("<=256".into(), ReconstructionSummary::default())],
+            per_mesh: Vec::new(),
+        };
+        let text = report.to_string();
+        let lines: Vec<&str> = text.lines().collect();
+        assert_eq!(lines[0], "skipped: a.obj: too big");
+        assert!(lines[1].starts_with("0 meshes: vertex x100 0.000, normal x100 0.000, "));
+        let bucket = "   <=256 vertices:    0 meshes, F1 0.000, CD x100 0.000, HD x100 0.000";
+        assert_eq!(lines[5], bucket);
+        assert!(
+            lines[6].ends_with("0.00 components; 0 with no faces"),
+            "{text}"
+        );
+    }
 }

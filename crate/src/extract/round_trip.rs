@@ -3,6 +3,8 @@
 //! into that order and turned back into faces by [`extract_mesh`]. What comes back shows what
 //! extraction loses, adds or flips on a perfect decoder's edges.
 
+use std::fmt;
+
 use serde::Serialize;
 
 use crate::Mesh;
@@ -34,6 +36,22 @@ pub struct RoundTrip {
     pub topology_before: TopologyReport,
     /// Topology of the extracted mesh.
     pub topology_after: TopologyReport,
+}
+
+/// The report as `meshflow extract` prints it under the file name.
+impl fmt::Display for RoundTrip {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        use crate::geometry::topology::json;
+        writeln!(f, "  cleaned: {}", json(&self.clean))?;
+        writeln!(
+            f,
+            "  faces: {} -> {} extracted ({} lost, {} extra, {} flipped)",
+            self.faces, self.extracted_faces, self.lost_faces, self.extra_faces, self.flipped_faces
+        )?;
+        writeln!(f, "  extraction: {}", json(&self.extract))?;
+        writeln!(f, "{}", self.topology_before.titled("topology before"))?;
+        write!(f, "{}", self.topology_after.titled("topology after"))
+    }
 }
 
 /// Why a mesh cannot be round-tripped.
@@ -187,6 +205,9 @@ mod tests {
             (0, 0, 0)
         );
         assert!(report.topology_after.is_clean_closed());
+        let text = report.to_string();
+        assert!(text.contains("\n  faces: 320 -> 320 extracted (0 lost, 0 extra, 0 flipped)\n"));
+        assert!(text.contains("\ntopology after\n  vertices                    162\n"));
     }
 
     #[test]

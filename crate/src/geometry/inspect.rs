@@ -1,6 +1,8 @@
 //! The figures `meshflow inspect` reports for a mesh or point cloud: counts, bounding box,
 //! surface area, the largest vertex degree and the topology report.
 
+use std::fmt;
+
 use glam::Vec3;
 use serde::Serialize;
 
@@ -56,10 +58,48 @@ impl Inspection {
     }
 }
 
+/// The summary as `meshflow inspect` prints it under the file name.
+impl fmt::Display for Inspection {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let kind = if self.point_cloud {
+            "point cloud"
+        } else {
+            "triangle mesh"
+        };
+        let (v, faces, normals) = (self.vertices, self.faces, self.has_normals);
+        writeln!(
+            f,
+            "  {kind}: {v} vertices, {faces} faces, normals: {normals}"
+        )?;
+        writeln!(
+            f,
+            "  bounding box: {:?} .. {:?}",
+            self.bbox_min, self.bbox_max
+        )?;
+        let (area, degree) = (self.surface_area, self.max_vertex_degree);
+        writeln!(f, "  surface area: {area:.6}   max vertex degree: {degree}")?;
+        write!(f, "{}", self.topology.titled("topology"))
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::primitives::icosphere;
+
+    #[test]
+    fn the_text_of_a_cube_names_its_counts() {
+        let text = Inspection::of(&crate::geometry::primitives::cube()).to_string();
+        let first = text.lines().next().unwrap();
+        assert_eq!(
+            first,
+            "  triangle mesh: 8 vertices, 12 faces, normals: false"
+        );
+        assert!(
+            text.contains("\ntopology\n  vertices                    8\n"),
+            "{text}"
+        );
+    }
 
     #[test]
     fn an_icosphere_is_summarised() {

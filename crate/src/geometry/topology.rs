@@ -2,6 +2,7 @@
 //! topology report that every generated mesh is judged by (docs/design.md section 3).
 
 use std::collections::HashMap;
+use std::fmt;
 
 use glam::Vec3;
 use serde::{Deserialize, Serialize};
@@ -379,12 +380,67 @@ impl TopologyReport {
             && self.inconsistent_winding_edges == 0
             && self.degenerate_faces == 0
     }
+
+    /// The report under a `title` line, as the CLI prints it.
+    pub fn titled<'a>(&'a self, title: &'a str) -> impl fmt::Display + 'a {
+        fmt::from_fn(move |f| write!(f, "{title}\n{self}"))
+    }
+}
+
+/// A report field's value as JSON text, for the `name value` lines of text reports.
+pub(crate) fn json(value: &impl Serialize) -> String {
+    serde_json::to_string(value).expect("report fields serialise")
+}
+
+/// Writes `  name value` lines (name padded to 28 columns), one per field, joined by newlines.
+pub(crate) fn write_fields(f: &mut fmt::Formatter<'_>, fields: &[(&str, String)]) -> fmt::Result {
+    for (i, (name, value)) in fields.iter().enumerate() {
+        let sep = if i == 0 { "" } else { "\n" };
+        write!(f, "{sep}  {name:<28}{value}")?;
+    }
+    Ok(())
+}
+
+/// The report's fields as aligned `name value` lines (no title).
+impl fmt::Display for TopologyReport {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let fields = [
+            ("vertices", self.vertices),
+            ("faces", self.faces),
+            ("edges", self.edges),
+            ("non manifold edges", self.non_manifold_edges),
+            ("boundary edges", self.boundary_edges),
+            ("holes", self.holes),
+            (
+                "inconsistent winding edges",
+                self.inconsistent_winding_edges,
+            ),
+            ("degenerate faces", self.degenerate_faces),
+            ("components", self.components),
+            ("isolated vertices", self.isolated_vertices),
+        ];
+        write_fields(f, &fields.map(|(k, v)| (k, v.to_string())))
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::geometry::primitives::{cube, grid, icosphere, octahedron};
+
+    #[test]
+    fn a_titled_report_lists_its_fields() {
+        let text = TopologyReport::of(&cube()).titled("topology").to_string();
+        assert!(
+            text.starts_with("topology\n  vertices                    8\n"),
+            "{text}"
+        );
+        assert!(
+            text.ends_with("\n  isolated vertices           0"),
+            "{text}"
+        );
+        assert_eq!(text.lines().count(), 11);
+    }
 
     #[test]
     fn closed_primitives_are_clean() {

@@ -682,7 +682,7 @@ pub const PAIR_CONTEXT_RANGE: f32 = 10.0;
 /// - rival: the best `min(d_ik, d_kj, d_il, d_lj, d_kl)` over two such vertices `k, l`: the
 ///   strongest quad `i-k-j-l` whose other diagonal `(k, l)` competes with `(i, j)`. A
 ///   quad's artist-drawn diagonal and the one left out look alike to a score of the pair
-///   alone (BENCHMARKS.md, "Why edge F1 stays near 0.72").
+///   alone (docs/experiments/2026-11-28-edge-f1-limit.md).
 ///
 /// Both are clamped to `[-PAIR_CONTEXT_RANGE, PAIR_CONTEXT_RANGE]`; the lower end also
 /// stands for "no such vertex".

@@ -14,13 +14,15 @@
 //!   eigenvalue share below [`PLANAR_SHARE`]). Points sampled from a low-poly surface lie on
 //!   its faces, and an artist who spent few vertices left large ones, so many neighbourhoods
 //!   fall inside one face; a dense or curved surface has few such. It is the feature that
-//!   moves the fit (held-out R^2 0.10 -> 0.42 on validation, BENCHMARKS.md). Noise
+//!   moves the fit (held-out R^2 0.10 -> 0.42 on validation,
+//!   docs/experiments/2026-11-29-budget-planar-share.md). Noise
 //!   erases it as it raises `C`: a noisy scan reads as a curved surface and gets more
 //!   vertices, by about as much as with `A` and `C` alone.
 //!
 //! The rule is `V = exp(a + b ln A + c C + d P)`, clamped to `[MIN_BUDGET, max]`, with
 //! `a, b, c, d` a least-squares fit of `ln V` over the training meshes that fit the shipped
-//! VAE (`meshflow eval budget --split train`, figures in BENCHMARKS.md).
+//! VAE (`meshflow eval budget --split train`, figures in
+//! docs/experiments/2026-11-29-budget-planar-share.md).
 
 use glam::{DVec3, Vec3};
 use rstar::RTree;
@@ -37,7 +39,8 @@ const VARIATION_SAMPLES: usize = 512;
 /// The smallest-eigenvalue share below which a neighbourhood counts as planar: an RMS
 /// distance from the plane of about 0.3% of the neighbourhood's extent. Points sampled from
 /// one face lie far below it (float rounding), and the fit on the training meshes was best at
-/// the smallest of the thresholds tried (1e-5 to 3e-4, BENCHMARKS.md).
+/// the smallest of the thresholds tried (1e-5 to 3e-4,
+/// docs/experiments/2026-11-29-budget-planar-share.md).
 pub const PLANAR_SHARE: f64 = 1e-5;
 /// The smallest default budget: below it the VAE's mask makes too few vertices for a shape.
 pub const MIN_BUDGET: usize = 16;

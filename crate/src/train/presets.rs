@@ -26,15 +26,15 @@ pub enum PresetError {
 }
 
 /// The shipped VAE's configuration, chosen by the fixed-budget capacity sweep in
-/// BENCHMARKS.md.
+/// docs/experiments/2026-11-24-vae-capacity-sweep.md.
 pub fn vae_ship() -> VaeTrainConfig {
     let model = VaeConfig {
         num_vertices: 512,
         num_latents: 128,
         // 64 floats per latent token of 4 vertices, the reference's width: 8 (2 floats per
         // vertex) was a bottleneck that more steps did not make up for; 64 beats 32 once the
-        // decoder is trained on (BENCHMARKS.md "Latent 64 with the shipped recipe") and the DiT
-        // reads the input points ("A DiT that reads the input points").
+        // decoder is trained on (docs/experiments/2026-11-27-latent-64-decoder.md) and the DiT
+        // reads the input points (docs/experiments/2026-11-28-dit-point-attention.md).
         latent_dim: 64,
         width_encoder: 128,
         width_decoder: 128,
@@ -62,7 +62,8 @@ pub fn vae_ship() -> VaeTrainConfig {
     // The paper's lambda_neg = 0.01 weighs each non-edge pair 1/100 of an edge, so the loss
     // is minimised by predicting an edge at p > 0.01: a 233M model trained for days separates
     // the pairs anyway, but at our size and budget it left edge precision at 0.05 (recall
-    // 0.79) after 500 steps. 0.25 puts the decision near F1's optimum (BENCHMARKS.md).
+    // 0.79) after 500 steps. 0.25 puts the decision near F1's optimum
+    // (docs/experiments/2026-11-24-vae-capacity-sweep.md).
     cfg.lambda_neg = 0.25;
     cfg.warmup_steps = 300;
     cfg.eval_every = 250;
@@ -120,12 +121,12 @@ pub fn dit_ship(num_latents: usize, latent_dim: usize) -> DitTrainConfig {
         depth: 6,
         num_heads: 4,
         // Every block reads 256 of the input points: on the 64-wide latents the DiT without
-        // them generated 0.5 CD x100 worse than its VAE reconstructs (BENCHMARKS.md "A DiT
-        // that reads the input points").
+        // them generated 0.5 CD x100 worse than its VAE reconstructs
+        // (docs/experiments/2026-11-28-dit-point-attention.md).
         point_tokens: 256,
     });
     // The paper's 1e-4 is for an 895M-parameter DiT; the shipped 5.6M one was trained at 3e-4
-    // (BENCHMARKS.md's DiT sweep compares the two).
+    // (docs/experiments/2026-11-25-dit-size-sweep.md compares the two).
     cfg.learning_rate = 3e-4;
     // About the wall-clock of 10,000 steps without points (~65 min on one thread).
     cfg.steps = 6_000;

@@ -4,9 +4,10 @@
 //! Why: a training step of either model keeps only about 1.1 of two cores busy (Burn's CPU
 //! backend parallelises the matrix products, not the many small operations between them), so
 //! two sub-batches at once take about 60% of the time of one pass over the batch
-//! (BENCHMARKS.md). Both models' losses are means over the batch's examples, so a sub-batch's
-//! mean loss weighted by its share of the examples has exactly its part of the batch's
-//! gradient; the sum differs from one pass only by float rounding.
+//! (docs/experiments/2026-11-28-data-parallel-training.md). Both models' losses are means over
+//! the batch's examples, so a sub-batch's mean loss weighted by its share of the examples has
+//! exactly its part of the batch's gradient; the sum differs from one pass only by float
+//! rounding.
 //!
 //! Each sub-batch runs on its own copy of the model (`Fork`): the same parameter values, ids
 //! and trainability, but fresh autodiff leaves. Burn's autodiff keeps the graphs that share a

@@ -66,7 +66,7 @@ pub struct VaeTrainConfig {
     /// default) leaves every non-edge at `lambda_neg`. On the validation split such pairs (at
     /// radius 2) are a sixth of the non-edges, and nearly all of the shipped decoder's wrong
     /// edges join such vertices (quad diagonals, the two sides of a thin part;
-    /// [`crate::eval::edge_errors`], BENCHMARKS.md).
+    /// [`crate::eval::edge_errors`], docs/experiments/2026-11-27-wrong-edges.md).
     #[serde(default)]
     pub near_negative_weight: f64,
     #[serde(default = "default_near_negative_radius")]
@@ -85,7 +85,7 @@ pub struct VaeTrainConfig {
     /// `vae.json` and the manifest), which extraction uses; the loss keeps `model.tau`. `None`
     /// (the default) writes `model.tau`. Weighing near non-edges moves where the decoder's
     /// edge and non-edge scores cross, so such a run is extracted at a threshold chosen on
-    /// the validation split ([`ValLog::best_tau`], BENCHMARKS.md).
+    /// the validation split ([`ValLog::best_tau`], docs/experiments/2026-11-27-near-non-edges.md).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub extraction_tau: Option<f32>,
     /// Each batch's gradient summed from this many sub-batches run at once on the CPU's
