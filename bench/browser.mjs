@@ -1,8 +1,8 @@
 // Time to first mesh and per-stage times of the web page in Debian's headless Chromium,
 // written to bench/browser.json. Not a test: run it by hand after scripts/build-web.sh,
-//   node bench/browser.mjs [--steps 7] [--samples 12] [--cpu-only [--runs N] -o FILE]
-// Three runs of the lantern scan at the page's defaults (vertex budget from the shape, 7
-// steps, 12 candidates, seed 0):
+//   node bench/browser.mjs [--steps 4] [--samples 12] [--no-sharpen] [--cpu-only [--runs N] -o FILE]
+// Three runs of the lantern scan at the page's defaults (vertex budget from the shape, 4
+// midpoint steps, 12 candidates, seed 0, sharpened):
 //   cold:  a fresh browser profile, so the weights are downloaded and nothing is cached;
 //   warm:  the same profile reloaded, weights from Cache Storage;
 //   cpu:   WebGPU off, the CPU fallback inside wasm (warm, from its own first load).
@@ -19,7 +19,9 @@ import { serve } from '../web/serve.mjs';
 
 const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const arg = (name, fallback) => (process.argv.includes(name) ? process.argv[process.argv.indexOf(name) + 1] : fallback);
-const steps = Number(arg('--steps', 7)) || 7;
+const steps = Number(arg('--steps', 4)) || 4;
+// The page's Sharpen box unticked: the pipeline before sharpening, to time it side by side.
+const sharpen = !process.argv.includes('--no-sharpen');
 const samples = Number(arg('--samples', 12)) || 12;
 const cpuOnly = process.argv.includes('--cpu-only');
 const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--use-angle=swiftshader', '--use-vulkan=swiftshader', '--enable-features=Vulkan'];
@@ -40,6 +42,7 @@ async function firstMesh(page, reload, webgpu) {
   await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
   await page.fill('#steps', String(steps));
   await page.fill('#samples', String(samples));
+  await page.setChecked('#sharpen', sharpen);
   const clicked = await page.evaluate(() => performance.now());
   await page.click('#generate');
   await page.waitForFunction(() => window.__meshflowReport, null, { timeout: 1_800_000 });
@@ -85,7 +88,7 @@ if (cpuOnly) {
   server.close();
   const result = {
     method: `node bench/browser.mjs --cpu-only: headless Chromium ${execSync('chromium --version').toString().trim()}, ` +
-      `the CPU path in wasm, the lantern scan at the page defaults with ${steps} steps and ${samples} candidates, ${runs} warm runs after a first load`,
+      `the CPU path in wasm, the lantern scan at the page defaults with ${steps} steps and ${samples} candidates${sharpen ? '' : ', not sharpened'}, ${runs} warm runs after a first load`,
     machine: `${cpus()[0].model}, ${cpus().length} threads`,
     wasm_file: cpuWasm.slice(ROOT.length + 1),
     wasm_bytes: statSync(cpuWasm).size,
@@ -101,7 +104,7 @@ const [, cpu] = await run(false, [false, true]);
 server.close();
 const result = {
   method: `node bench/browser.mjs: headless Chromium ${execSync('chromium --version').toString().trim()} ` +
-    `(WebGPU = SwiftShader), the lantern scan at the page defaults with ${steps} steps and ${samples} candidates, one run each`,
+    `(WebGPU = SwiftShader), the lantern scan at the page defaults with ${steps} steps and ${samples} candidates${sharpen ? '' : ', not sharpened'}, one run each`,
   machine: `${cpus()[0].model}, ${cpus().length} threads`,
   wasm_bytes: statSync(wasm).size,
   wasm_gzip_bytes: Number(execSync(`gzip -9 -c ${wasm} | wc -c`).toString()),

@@ -271,6 +271,7 @@ $('generate').addEventListener('click', () => {
       faces: num('faces'),
       fit: $('fit').checked,
       closeHoles: $('close-holes').checked,
+      sharpen: $('sharpen').checked,
       steps: num('steps'),
       solver: $('solver').value,
       samples: num('samples'),

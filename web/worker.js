@@ -40,6 +40,7 @@ self.onmessage = async ({ data }) => {
         faces: data.faces,
         fit: data.fit,
         closeHoles: data.closeHoles,
+        sharpen: data.sharpen,
         steps: data.steps,
         solver: data.solver,
         samples: data.samples,

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# glibc's default allocator policy against the CLI's (native-harness/src/allocator.rs), side by
+# glibc's default allocator policy against the CLI's (meshflow::device::keep_freed_memory), side by
 # side: `bash bench/allocator/bench.sh DEFAULT KEEP`, two builds of the CLI, DEFAULT without
 # the mallopt call and KEEP with it. Two rounds, binaries alternated:
 # - a training step of each shipped VAE stage (`meshflow bench train-vae --steps 30`; stage 1

@@ -40,7 +40,8 @@
 //!   `eval budget`) and their summaries.
 //! - [`web`]: the viewer's orbit camera; on wasm32 with feature `web`, the wasm-bindgen API
 //!   and the page's wgpu mesh viewer.
-//! - [`device`]: the CPU (flex) and wgpu devices, and the machine's description; `parallel`:
+//! - [`device`]: the CPU (flex) and wgpu devices, the machine's description and, on glibc,
+//!   the allocator policy the CPU backend runs fastest with; `parallel`:
 //!   independent work on rayon's threads; [`rng`]: a small seeded generator, so
 //!   results are reproducible on every platform; [`workloads`]: the inputs the extraction
 //!   benchmarks time.

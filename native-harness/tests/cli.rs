@@ -235,6 +235,37 @@ fn bad_input_is_one_line_and_status_2() {
     );
 }
 
+/// `meshflow ... | head`: the reader is gone before the first line.
+#[test]
+fn a_closed_pipe_ends_the_command_quietly() {
+    let bread = fixture("meshes/bread.obj");
+    let bread = bread.to_str().unwrap();
+    for args in [
+        &["inspect", bread][..],
+        &["compare", bread, bread, "--samples", "500"],
+    ] {
+        let (reader, writer) = std::io::pipe().unwrap();
+        drop(reader);
+        let out = Command::new(env!("CARGO_BIN_EXE_meshflow"))
+            .args(args)
+            .stdout(writer)
+            .output()
+            .unwrap();
+        let stderr = String::from_utf8_lossy(&out.stderr);
+        assert!(!stderr.contains("panicked"), "{args:?}: {stderr}");
+        assert!(!stderr.contains("Broken pipe"), "{args:?}: {stderr}");
+        #[cfg(unix)]
+        {
+            use std::os::unix::process::ExitStatusExt;
+            assert_eq!(
+                out.status.signal(),
+                Some(13),
+                "{args:?}: SIGPIPE, as `head` expects"
+            );
+        }
+    }
+}
+
 fn golden_dir() -> PathBuf {
     std::env::var_os("MESHFLOW_GOLDEN_DIR")
         .map(PathBuf::from)
@@ -848,6 +879,15 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
         serde_json::from_slice(&std::fs::read(&report_path).unwrap()).unwrap();
     assert_eq!(report["all"]["meshes"], 2);
     assert_eq!(report["per_mesh"].as_array().unwrap().len(), 2);
+    let text = String::from_utf8_lossy(&out.stdout);
+    for line in [
+        "2 meshes (",
+        "  ours             CD x100 ",
+        "  VAE upper bound  CD x100 ",
+    ] {
+        assert!(text.contains(line), "{line:?} in {text}");
+    }
+    assert!(text.contains("  mean per mesh: condition "), "{text}");
     assert!(
         report["all"]["vae_upper_bound"]["chamfer_x100"]
             .as_f64()

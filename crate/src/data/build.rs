@@ -346,7 +346,7 @@ mod tests {
         assert_eq!(lines[0], header);
         assert!(lines[1].starts_with("fake-data                "), "{text}");
         assert!(
-            text.contains("\nskipped:\n  unsupported_format  "),
+            text.contains("\n  unsupported_format                             1\n"),
             "{text}"
         );
         assert!(text.ends_with(" MiB, in out-a; 1.0 s"), "{text}");

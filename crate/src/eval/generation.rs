@@ -89,6 +89,52 @@ pub enum GenerationEvalError {
     Io(#[from] std::io::Error),
 }
 
+/// The summary `meshflow eval generate` prints: one line per method (ours, the VAE's bound,
+/// the baseline when scored), the ground truth's topology, the mean stage times.
+impl std::fmt::Display for GenerationEvalReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let line = |f: &mut std::fmt::Formatter<'_>, what: &str, s: &SurfaceSummary| {
+            writeln!(
+                f,
+                "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  NC {:.4}  ECD x100 {:7.3}  EF1 \
+                 {:.4}  faces {:7.1} ({:.2}x gt)  holes {:6.2}  non-manifold {:6.2}  \
+                 components {:6.2}  no faces {}",
+                s.chamfer_x100,
+                s.hausdorff_x100,
+                s.normal_consistency,
+                s.edge_chamfer_x100,
+                s.edge_f_score,
+                s.faces_out,
+                s.faces_ratio,
+                s.holes,
+                s.non_manifold_edges,
+                s.components,
+                s.no_faces
+            )
+        };
+        writeln!(f, "{} meshes ({})", self.all.meshes, self.source)?;
+        line(f, "ours", &self.all.ours)?;
+        line(f, "VAE upper bound", &self.all.vae_upper_bound)?;
+        if let Some(b) = &self.all.baseline {
+            line(f, "Poisson + QEM", b)?;
+        }
+        let o = &self.all.ours;
+        writeln!(
+            f,
+            "  ground truth     holes {:6.2}  components {:6.2}; closed in {} meshes, where ours \
+             has {:.2} holes",
+            o.gt_holes, o.gt_components, o.gt_closed, o.holes_where_gt_closed
+        )?;
+        let t = &self.mean_times;
+        writeln!(
+            f,
+            "  mean per mesh: condition {:.3} s, sample {:.3} s, decode {:.3} s, extract {:.3} \
+             s, fit {:.3} s",
+            t.condition_s, t.sample_s, t.decode_s, t.extract_s, t.fit_s
+        )
+    }
+}
+
 /// One mesh's result.
 #[derive(Clone, Debug, Serialize)]
 pub struct MeshResult {
@@ -98,6 +144,8 @@ pub struct MeshResult {
     /// With [`BudgetSource::GroundTruthFaces`]: the faces asked for.
     pub faces_asked: Option<usize>,
     pub faces_made: usize,
+    /// What sharpening did to our mesh, and whether it was kept.
+    pub sharpen: crate::surface::sharpen::SharpenReport,
     pub ours: Option<Comparison>,
     pub vae: Option<Comparison>,
     pub baseline: Option<Comparison>,
@@ -263,6 +311,7 @@ pub fn evaluate_generation(
                 faces_asked: (eval.budget == BudgetSource::GroundTruthFaces)
                     .then(|| faces_asked(gt)),
                 faces_made: g.mesh.faces.len(),
+                sharpen: g.sharpen,
                 ours: score(&g.mesh),
                 vae: vae_mesh.and_then(score),
                 baseline: baseline.as_ref().and_then(score),

@@ -42,7 +42,7 @@ mod stl;
 mod tokens;
 
 use std::fmt;
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use glam::Vec3;
 
@@ -436,6 +436,27 @@ pub fn read_path(path: &Path, limits: &Limits) -> Result<Mesh, ReadError> {
     }
 }
 
+/// The files of the folder `dir` that [`read_path`] reads by their extension
+/// ([`Format::from_path`]), sorted by name: the inputs of a command run on a folder. Folders
+/// and files of other types are left out, and so are entries that cannot be read.
+pub fn mesh_files(dir: &Path) -> std::io::Result<Vec<PathBuf>> {
+    let mut files: Vec<PathBuf> = std::fs::read_dir(dir)?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_file() && Format::from_path(p).is_some())
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// The file in the folder `dir` that holds the result for `input`: `input`'s name with its
+/// last extension replaced by `extension` (`in/chair.v2.ply` -> `dir/chair.v2.glb`).
+pub fn output_in(dir: &Path, input: &Path, extension: &str) -> PathBuf {
+    let mut name = input.file_stem().unwrap_or_default().to_os_string();
+    name.push(".");
+    name.push(extension);
+    dir.join(name)
+}
+
 /// Writes `mesh` in the format named by the extension of `path` (`.glb`, `.obj`, `.ply`).
 ///
 /// The mesh must pass [`Mesh::validate`].
@@ -758,5 +779,37 @@ pub(crate) fn bad_vertex_index(format: Format, at: u64, index: u32, count: usize
         what: "vertices",
         index: index as i64,
         count,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_folders_mesh_files_are_listed_sorted_without_other_entries() {
+        let dir = std::env::temp_dir().join(format!("meshflow-io-list-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(dir.join("sub.obj")).unwrap();
+        for name in ["b.ply", "a.OBJ", "notes.md", "c.xyz"] {
+            std::fs::write(dir.join(name), "").unwrap();
+        }
+        let names: Vec<String> = mesh_files(&dir)
+            .unwrap()
+            .iter()
+            .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+            .collect();
+        assert_eq!(names, ["a.OBJ", "b.ply", "c.xyz"]);
+        assert!(mesh_files(&dir.join("missing")).is_err());
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+
+    #[test]
+    fn an_output_keeps_the_inputs_name_up_to_its_last_extension() {
+        let out = Path::new("out");
+        let of = |input: &str| output_in(out, Path::new(input), "glb");
+        assert_eq!(of("in/chair.v2.ply"), out.join("chair.v2.glb"));
+        assert_eq!(of("lantern"), out.join("lantern.glb"));
+        assert_eq!(of("in/.hidden.obj"), out.join(".hidden.glb"));
     }
 }

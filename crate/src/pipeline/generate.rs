@@ -42,7 +42,7 @@ use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
 use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
 use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
-use crate::surface::sharpen::{PointPlanes, SharpenOptions, SharpenReport, sharpen};
+use crate::surface::sharpen::{PointPlanes, SharpenOptions, SharpenReport, sharpen_judged};
 
 /// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
 pub const CONDITION_POINTS: usize = 4096;
@@ -122,10 +122,10 @@ pub struct GenerateOptions {
     pub faces: Option<usize>,
     /// Sampler steps, each a [`Self::solver`] step. The paper's default is 28 Euler steps;
     /// here 4 midpoint steps (8 DiT evaluations), since one more candidate (`samples`) buys
-    /// far more than more steps for the same time (BENCHMARKS.md, "The default: 12 candidates
-    /// of 7 steps"), and at about the cost of 7 Euler steps the midpoint rule lands closer to
-    /// the input (validation CD x100 4.52 / 4.56 at two seeds against 4.74 / 4.74;
-    /// BENCHMARKS.md, "Second-order sampling").
+    /// far more than more steps for the same time
+    /// (docs/experiments/2026-11-26-candidates-and-steps.md), and at about the cost of 7 Euler
+    /// steps the midpoint rule lands closer to the input (validation CD x100 4.52 / 4.56 at two
+    /// seeds against 4.74 / 4.74; docs/experiments/2026-11-27-second-order-sampling.md).
     pub steps: usize,
     pub seed: u64,
     /// Candidates drawn per input, each from its own noise; the one kept lies closest to the
@@ -897,11 +897,12 @@ fn finish_one(
 /// Stage 6: the kept mesh sharpened against its input `points` (input frame;
 /// [`crate::surface::sharpen`]), after the manifold extraction only (its edits keep a manifold
 /// mesh manifold). Only the kept candidate is sharpened, so the stage costs one mesh's
-/// sharpening however many candidates were drawn; its time counts in `fit_s`. The sharpened
-/// mesh replaces the kept one only when it is no farther from the input points by
-/// [`keep_best`]'s measure: where the model's mesh was too far off for the edits (loose flaps,
-/// crumpled sheets, thin parts the collapses would flatten), the mesh stays as it was
-/// ([`SharpenReport::accepted`] says which).
+/// sharpening however many candidates were drawn; its time counts in `fit_s`. The mesh of the
+/// last round of sharpening that is no farther from the input points by [`keep_best`]'s
+/// measure (times [`SharpenOptions::accept_ratio`]) replaces the kept one: where the model's
+/// mesh was too far off for the edits (loose flaps, crumpled sheets, thin parts the collapses
+/// would flatten), an earlier round or, when none passes, the mesh as it was stays
+/// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which).
 pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -> Generated {
     if !opts.sharpen.enabled || opts.extract.method != ExtractMethod::Manifold {
         return g;
@@ -909,13 +910,28 @@ pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -
     let started = Instant::now();
     let planes = PointPlanes::new(points, opts.sharpen.plane_neighbours);
     let mut mesh = g.mesh.clone();
-    let mut report = sharpen(&mut mesh, &planes, &opts.sharpen);
-    let topology = TopologyReport::of(&mesh);
-    report.accepted = input_score(&mesh, topology.holes, points)
-        <= input_score(&g.mesh, g.topology.holes, points);
-    if report.accepted {
-        g.mesh = mesh;
-        g.topology = topology;
+    // The last round no farther from the input points than the fitted mesh (times the
+    // ratio): later rounds are flatter, and where one strays (a flap of the model's the
+    // points do not back collapsed away) an earlier round may still be right.
+    let before = input_score(&g.mesh, g.topology.holes, points);
+    let limit = opts.sharpen.accept_ratio * before;
+    let mut last = None;
+    let mut report = sharpen_judged(&mut mesh, &planes, &opts.sharpen, |m| {
+        let topology = TopologyReport::of(m);
+        let score = input_score(m, topology.holes, points);
+        let ok = score <= limit;
+        if ok || last.is_none() {
+            last = Some((score, topology));
+        }
+        ok
+    });
+    report.input_distance_before = before;
+    if let Some((score, topology)) = last {
+        report.input_distance_after = score;
+        if report.accepted {
+            g.mesh = mesh;
+            g.topology = topology;
+        }
     }
     g.sharpen = report;
     g.times.fit_s += started.elapsed().as_secs_f64();
@@ -973,8 +989,8 @@ fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3]) -> f64 {
 /// The distance to the input ranks candidates almost exactly as the distance to the ground
 /// truth does (correlation 0.99 within a mesh's candidates on the validation split), so it
 /// leads; by distance alone 8 candidates keep 3.6 holes a mesh, by holes first 1.3 at 0.2
-/// more CD x100; at 0.5, 1.4 holes and most of the distance's gain (BENCHMARKS.md, "The
-/// default: 12 candidates of 7 steps").
+/// more CD x100; at 0.5, 1.4 holes and most of the distance's gain
+/// (docs/experiments/2026-11-26-candidates-and-steps.md).
 pub const HOLE_WEIGHT: f64 = 0.5;
 
 /// Surface samples per candidate for [`keep_best`]'s distance to the input.

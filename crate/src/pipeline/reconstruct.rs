@@ -5,6 +5,8 @@
 //! Inputs must already be cleaned and in the model frame (the data build's shards are; use
 //! [`prepare`] for an arbitrary mesh file).
 
+use std::fmt;
+
 use burn::tensor::{Device, Tensor};
 use glam::Vec3;
 use serde::Serialize;
@@ -27,6 +29,8 @@ use crate::model::{MeshVae, Trace, VaeConfig};
 pub enum ReconstructError {
     #[error("the mesh has no faces")]
     NoFaces,
+    #[error("{vertices} vertices after welding; this VAE takes at most {max}")]
+    TooManyVertices { vertices: usize, max: usize },
     #[error(transparent)]
     Tokens(#[from] TokenError),
     #[error(transparent)]
@@ -47,6 +51,31 @@ pub fn prepare(mesh: &Mesh) -> Result<(Mesh, Normalization), ReconstructError> {
     let aabb = cleaned.aabb().ok_or(ReconstructError::NoFaces)?;
     let norm = Normalization::to_model_frame(aabb);
     Ok((norm.apply_mesh(&cleaned), norm.inverse()))
+}
+
+/// Reconstructs one mesh as read from a file: [`prepare`]d, refused when it has more vertices
+/// than the VAE takes, reconstructed as [`reconstruct_batch`] does with the default comparison
+/// and mapped back to the input's frame (the figures stay in the metrics' frame).
+pub fn reconstruct_mesh(
+    vae: &MeshVae,
+    cfg: &VaeConfig,
+    mesh: &Mesh,
+    extract: &ExtractOptions,
+    device: &Device,
+) -> Result<Reconstruction, ReconstructError> {
+    let (model_frame, back) = prepare(mesh)?;
+    let vertices = model_frame.positions.len();
+    if vertices > cfg.num_vertices {
+        let max = cfg.num_vertices;
+        return Err(ReconstructError::TooManyVertices { vertices, max });
+    }
+    let compare = CompareOptions::default();
+    let done = reconstruct_batch(vae, cfg, &[model_frame], extract, &compare, device)?;
+    let r = done.into_iter().next().expect("one result per mesh");
+    Ok(Reconstruction {
+        mesh: back.apply_mesh(&r.mesh),
+        metrics: r.metrics,
+    })
 }
 
 /// `points` (in the model frame, like `gt`) in the frame of the metrics, docs/design.md
@@ -89,6 +118,52 @@ pub struct ReconstructionMetrics {
     /// sample (counted as a failed reconstruction by the evaluation).
     pub comparison: Option<Comparison>,
     pub extract: ExtractReport,
+}
+
+/// The figures as `meshflow reconstruct` prints them: edge scores, counts, CD/HD, topology.
+impl fmt::Display for ReconstructionMetrics {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (vd, nd) = (self.vertex_distance_x100, self.normal_distance_x100);
+        let (p, r, f1) = (self.edge_precision, self.edge_recall, self.edge_f1);
+        let (mp, mr, mf) = (
+            self.mesh_edge_precision,
+            self.mesh_edge_recall,
+            self.mesh_edge_f1,
+        );
+        write!(
+            f,
+            "vertex dist x100 {vd:.3}, normal dist x100 {nd:.3}, edge P/R/F1 "
+        )?;
+        writeln!(
+            f,
+            "{p:.3}/{r:.3}/{f1:.3}, the extracted mesh's edges {mp:.3}/{mr:.3}/{mf:.3}"
+        )?;
+        let (v, faces) = (self.vertices, self.faces);
+        let Some(c) = &self.comparison else {
+            return write!(
+                f,
+                "{v} vertices / {faces} faces in; the extracted mesh has no faces"
+            );
+        };
+        let t = &c.pred_topology;
+        writeln!(
+            f,
+            "{v} vertices / {faces} faces in; {} vertices / {} faces out",
+            t.vertices, t.faces
+        )?;
+        let (cd, hd) = (c.chamfer_x100, c.hausdorff_x100);
+        write!(
+            f,
+            "CD x100 {cd:.3}, HD x100 {hd:.3}; boundary edges {}, ",
+            t.boundary_edges
+        )?;
+        write!(
+            f,
+            "non-manifold edges {}, holes {}, ",
+            t.non_manifold_edges, t.holes
+        )?;
+        write!(f, "components {}", t.components)
+    }
 }
 
 /// One reconstructed mesh and its figures.
@@ -307,6 +382,36 @@ pub fn reconstruct_batch(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn metrics_without_faces_say_so() {
+        let m = ReconstructionMetrics {
+            vertices: 8,
+            faces: 12,
+            vertex_distance_x100: 1.0,
+            normal_distance_x100: 2.0,
+            edge_precision: 0.5,
+            edge_recall: 0.25,
+            edge_f1: 1.0 / 3.0,
+            true_positive_edges: 1,
+            false_positive_edges: 1,
+            false_negative_edges: 3,
+            wrong_edges: WrongEdgeKinds::default(),
+            quad_diagonals: QuadDiagonals::default(),
+            mesh_edge_precision: 0.0,
+            mesh_edge_recall: 0.0,
+            mesh_edge_f1: 0.0,
+            mask_errors: 0,
+            comparison: None,
+            extract: ExtractReport::default(),
+        };
+        assert_eq!(
+            m.to_string(),
+            "vertex dist x100 1.000, normal dist x100 2.000, edge P/R/F1 0.500/0.250/0.333, the \
+             extracted mesh's edges 0.000/0.000/0.000\n8 vertices / 12 faces in; the extracted \
+             mesh has no faces"
+        );
+    }
     use crate::eval::metrics::vertex_distance;
     use crate::geometry::primitives::cube;
 
@@ -327,6 +432,33 @@ mod tests {
         let mut got = mesh_edges_in_slots(&mesh, &shared, &[1.0; 4]);
         got.sort_unstable();
         assert_eq!(got, vec![[0, 1], [0, 6], [1, 6], [1, 7], [6, 7]]);
+    }
+
+    #[test]
+    fn a_mesh_is_reconstructed_in_its_own_frame_and_refused_over_the_vaes_size() {
+        use crate::geometry::primitives::icosphere;
+        let device = Device::flex();
+        let cfg = VaeConfig::vae_small();
+        let vae = crate::model::seeded_init(MeshVae::new(&cfg, &device), 1);
+        let extract = ExtractOptions::default();
+        let big = icosphere(2);
+        match reconstruct_mesh(&vae, &cfg, &big, &extract, &device) {
+            Err(ReconstructError::TooManyVertices { vertices, max }) => {
+                assert_eq!((vertices, max), (big.positions.len(), cfg.num_vertices));
+            }
+            other => panic!("expected a refusal, got {:?}", other.err()),
+        }
+        // Far from the origin: what comes back lies around the input, not in the model frame.
+        let mut far = cube();
+        far.positions
+            .iter_mut()
+            .for_each(|p| *p = *p * 10.0 + Vec3::splat(100.0));
+        let r = reconstruct_mesh(&vae, &cfg, &far, &extract, &device).unwrap();
+        assert_eq!(r.metrics.vertices, 8);
+        let centre = far.aabb().unwrap().center();
+        for p in &r.mesh.positions {
+            assert!(p.distance(centre) < centre.length() / 2.0, "{p}");
+        }
     }
 
     #[test]

@@ -46,7 +46,7 @@
 //! again with those faces as the "model's". Each pass moves the vertices that the first fit
 //! held back onto the surface and closes holes their old positions kept open (validation
 //! split, two passes and voted candidates against one completion: CD x100 5.59 -> 5.31,
-//! holes 10.7 -> 6.8; BENCHMARKS.md).
+//! holes 10.7 -> 6.8; docs/experiments/2026-11-25-refined-completion.md).
 //!
 //! Cost: a k-nearest search and a local Delaunay test (k^3) per vertex, and per candidate a
 //! few nearest-point queries; tens of milliseconds at 512 vertices.

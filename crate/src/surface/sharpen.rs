@@ -50,6 +50,7 @@ use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
 use crate::geometry::topology::edges;
+use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 use crate::surface::complete::point_spacing;
 use crate::surface::fit::{
@@ -80,6 +81,10 @@ pub struct SharpenOptions {
     pub max_turn_deg: f64,
     /// Rounds of the whole (split, place, flip, collapse, snap).
     pub passes: usize,
+    /// Generation keeps the sharpened mesh when its distance to the input points is at most
+    /// this many times the fitted mesh's (`pipeline::generate::sharpen_kept`; 1: never
+    /// farther).
+    pub accept_ratio: f64,
 }
 
 impl Default for SharpenOptions {
@@ -94,6 +99,7 @@ impl Default for SharpenOptions {
             noise_tolerance: 3.0,
             max_turn_deg: 60.0,
             passes: 8,
+            accept_ratio: 1.0,
         }
     }
 }
@@ -122,6 +128,51 @@ pub struct SharpenReport {
     /// the input points than before; `pipeline::generate::sharpen_kept`). `sharpen` itself
     /// always sets it.
     pub accepted: bool,
+    /// The distances to the input points that decided it (Chamfer to the points, holes
+    /// counting against it, as candidates are ranked): the fitted mesh's and the sharpened
+    /// one's. Zero when generation did not judge.
+    pub input_distance_before: f64,
+    pub input_distance_after: f64,
+    /// The round whose mesh was kept (the last that the judge of [`sharpen_judged`]
+    /// accepted; 0 when none was, or sharpening did not run).
+    pub rounds_kept: usize,
+}
+
+impl SharpenReport {
+    /// Whether sharpening ran at all (it leaves a mesh alone without faces, with too few
+    /// planar input points, or when turned off).
+    pub fn ran(&self) -> bool {
+        self.faces_in > 0 && self.refined_faces > 0
+    }
+}
+
+/// One line for a person: what sharpening did, or why the fitted mesh stayed.
+impl std::fmt::Display for SharpenReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if !self.ran() {
+            return f.write_str("not sharpened (no faces, or too few planar input points)");
+        }
+        if !self.accepted {
+            return f.write_str(
+                "every round of sharpening was farther from the input points than the fitted \
+                 mesh; kept the fitted one",
+            );
+        }
+        write!(
+            f,
+            "sharpened: {} -> {} faces (round {}; {} split, {} crease and {} corner vertices, {} \
+             flips, {} collapses; {:.0}% of the model's edges kept; --no-sharpen turns it off)",
+            self.faces_in,
+            self.faces_out,
+            self.rounds_kept,
+            self.refined_faces,
+            self.crease_vertices,
+            self.corner_vertices,
+            self.flips,
+            self.collapses,
+            100.0 * self.model_edges_kept
+        )
+    }
 }
 
 /// The input points' planes, computed once per input and shared by its candidates.
@@ -156,19 +207,21 @@ impl PointPlanes {
         let mut normals = vec![DVec3::ZERO; points.len()];
         let mut variation = vec![f64::INFINITY; points.len()];
         let mut residuals = Vec::with_capacity(points.len());
-        for p in tree.iter() {
+        // Each point's plane on its own (in parallel where there are threads).
+        let fitted = map_in_parallel(tree.iter().collect(), |_, p: &Indexed| {
             let near: Vec<DVec3> = tree
                 .nearest_neighbor_iter(*p.geom())
                 .take(k.max(3))
                 .map(|n| Vec3::from_array(*n.geom()).as_dvec3())
                 .collect();
-            if let Some(n) = least_spread_direction(&near) {
-                let values = symmetric_eigenvalues(covariance(&near));
-                let total: f64 = values.iter().sum();
-                normals[p.data as usize] = n;
-                variation[p.data as usize] = values[0].max(0.0) / total.max(1e-300);
-                residuals.push(values[0].max(0.0));
-            }
+            least_spread_direction(&near)
+                .map(|n| (p.data as usize, n, symmetric_eigenvalues(covariance(&near))))
+        });
+        for (i, n, values) in fitted.into_iter().flatten() {
+            let total: f64 = values.iter().sum();
+            normals[i] = n;
+            variation[i] = values[0].max(0.0) / total.max(1e-300);
+            residuals.push(values[0].max(0.0));
         }
         residuals.sort_by(f64::total_cmp);
         let rms_off_plane = residuals.get(residuals.len() / 2).map_or(0.0, |v| v.sqrt());
@@ -308,6 +361,20 @@ impl PointPlanes {
 /// fewer than half of them have a plane (points on a line, all in one place), the mesh is
 /// left alone.
 pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> SharpenReport {
+    sharpen_judged(mesh, planes, opts, |_| true)
+}
+
+/// [`sharpen`], keeping the mesh of the last round that `acceptable` accepts: asked of the
+/// last round first, then of each earlier one until it says yes (so a mesh whose last round
+/// passes costs one question). When no round passes, `mesh` is left as it came and the
+/// report says `accepted: false`. A later round is flatter and has fewer faces, so the last
+/// acceptable one is the most sharpened mesh the judge allows.
+pub fn sharpen_judged(
+    mesh: &mut Mesh,
+    planes: &PointPlanes,
+    opts: &SharpenOptions,
+    mut acceptable: impl FnMut(&Mesh) -> bool,
+) -> SharpenReport {
     let mut report = SharpenReport {
         faces_in: mesh.faces.len(),
         faces_out: mesh.faces.len(),
@@ -330,6 +397,8 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
 
     let tolerance = (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
     report.tolerance = tolerance as f32;
+    // Each round's mesh, compacted: (positions, faces, the edit mesh's vertex of each).
+    let mut rounds = Vec::with_capacity(opts.passes);
     for _round in 0..opts.passes {
         let (mut crease, mut corner) = (0, 0);
         // 1. Room for the creases.
@@ -346,17 +415,21 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
         // (onto a crease or corner when it is next to one), or onto the nearest plane where
         // that minimiser is farther than those points.
         let before = m.positions.clone();
-        for (v, &from) in before.iter().enumerate() {
-            if !m.faces_of(v as u32).is_empty() {
-                let (q, reach) = planes.quadric_near(from, opts.neighbours);
-                let x = q.minimiser_near(from, opts.rank_cutoff);
-                m.positions[v] = if x.distance(from) <= reach {
-                    x
-                } else {
-                    planes.project(from)
-                };
+        let live: Vec<bool> = (0..before.len())
+            .map(|v| !m.faces_of(v as u32).is_empty())
+            .collect();
+        m.positions = map_in_parallel(before.iter().zip(&live).collect(), |_, (&from, &live)| {
+            if !live {
+                return from;
             }
-        }
+            let (q, reach) = planes.quadric_near(from, opts.neighbours);
+            let x = q.minimiser_near(from, opts.rank_cutoff);
+            if x.distance(from) <= reach {
+                x
+            } else {
+                planes.project(from)
+            }
+        });
         hold_back(&mut m, &before);
 
         // 3. Decimation on the input's planes: each vertex's quadric holds the planes of the
@@ -398,9 +471,32 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
         report.flips += align_flips(&mut m, planes);
         report.crease_vertices = crease;
         report.corner_vertices = corner;
+        rounds.push(m.compacted());
     }
 
-    let (positions, faces, kept) = m.compacted();
+    let had_normals = !mesh.normals.is_empty();
+    let as_mesh = |positions: &[DVec3], faces: &[[u32; 3]]| {
+        let mut out = Mesh::new(
+            positions.iter().map(|p| p.as_vec3()).collect(),
+            faces.to_vec(),
+        );
+        if had_normals {
+            out.normals = vertex_normals(&out.positions, &out.faces);
+        }
+        out
+    };
+    let Some((round, judged)) = rounds.iter().enumerate().rev().find_map(|(r, (p, f, _))| {
+        let candidate = as_mesh(p, f);
+        acceptable(&candidate).then_some((r + 1, candidate))
+    }) else {
+        report.accepted = false;
+        report.faces_out = mesh.faces.len();
+        report.model_edges_kept = 1.0;
+        return report;
+    };
+    report.rounds_kept = round;
+    let kept = &rounds[round - 1].2;
+    let faces = &judged.faces;
     let out_edges: std::collections::HashSet<[u32; 2]> = faces
         .iter()
         .flat_map(|&[a, b, c]| [[a, b], [b, c], [c, a]])
@@ -418,14 +514,7 @@ pub fn sharpen(mesh: &mut Mesh, planes: &PointPlanes, opts: &SharpenOptions) -> 
             .count() as f32
             / model_edges.len() as f32
     };
-    let had_normals = !mesh.normals.is_empty();
-    mesh.positions = positions.iter().map(|p| p.as_vec3()).collect();
-    mesh.faces = faces;
-    mesh.normals = if had_normals {
-        vertex_normals(&mesh.positions, &mesh.faces)
-    } else {
-        Vec::new()
-    };
+    *mesh = judged;
     report.faces_out = mesh.faces.len();
     report
 }
@@ -498,18 +587,32 @@ fn align_flips(m: &mut EditMesh, planes: &PointPlanes) -> usize {
 /// Up to four passes over the edges, flipping each flippable edge `(a, b)` (faces `(a, b, c)`
 /// and `(b, a, d)`) for which `wants([a, b, c, d])` holds, until a pass flips none; returns
 /// the flips made.
-fn flip_passes(m: &mut EditMesh, mut wants: impl FnMut(&EditMesh, [u32; 4]) -> bool) -> usize {
+fn flip_passes(m: &mut EditMesh, wants: impl Fn(&EditMesh, [u32; 4]) -> bool + Sync) -> usize {
+    // `flippable` wants the face that walks a -> b first; try the other way.
+    let quad = |m: &EditMesh, [a, b]: [u32; 2]| match (m.flippable(a, b), m.flippable(b, a)) {
+        (Some((c, d)), _) => Some([a, b, c, d]),
+        (None, Some((c, d))) => Some([b, a, c, d]),
+        _ => None,
+    };
     let mut flips = 0;
     for _ in 0..4 {
+        let edges = m.edges();
+        // Flips move no vertex, so an edge's answer depends only on its four vertices: asked
+        // for every edge up front (in parallel where there are threads), and again only for
+        // an edge whose faces an earlier flip of this pass changed. The same flips either way.
+        let asked: Vec<Option<([u32; 4], bool)>> = {
+            let m = &*m;
+            map_in_parallel(edges.clone(), |_, e| quad(m, e).map(|q| (q, wants(m, q))))
+        };
         let mut changed = 0;
-        for [a, b] in m.edges() {
-            // `flippable` wants the face that walks a -> b first; try the other way.
-            let (a, b, c, d) = match (m.flippable(a, b), m.flippable(b, a)) {
-                (Some((c, d)), _) => (a, b, c, d),
-                (None, Some((c, d))) => (b, a, c, d),
-                _ => continue,
+        for (e, asked) in edges.into_iter().zip(asked) {
+            let Some(q) = quad(m, e) else { continue };
+            let flip = match asked {
+                Some((was, answer)) if was == q => answer,
+                _ => wants(m, q),
             };
-            if wants(m, [a, b, c, d]) {
+            if flip {
+                let [a, b, c, d] = q;
                 m.flip(a, b, c, d);
                 changed += 1;
             }
@@ -574,9 +677,15 @@ fn vertex_quadrics(m: &EditMesh, planes: &PointPlanes) -> Vec<Quadric> {
     }
     let tree = RTree::bulk_load(live);
     let share = area / planes.with_plane.max(1) as f64;
-    for (x, normal, confidence) in planes.weighted_planes() {
-        if let Some(v) = tree.nearest_neighbor(x.to_array()) {
-            quadrics[v.data as usize] += Quadric::plane(normal, x, share * confidence);
+    // The nearest vertex of each plane in parallel, the sums in order (the same floats either
+    // way).
+    let planes: Vec<(DVec3, DVec3, f64)> = planes.weighted_planes().collect();
+    let nearest = map_in_parallel(planes.iter().collect(), |_, (x, _, _)| {
+        tree.nearest_neighbor(x.to_array()).map(|v| v.data as usize)
+    });
+    for ((x, normal, confidence), v) in planes.into_iter().zip(nearest) {
+        if let Some(v) = v {
+            quadrics[v] += Quadric::plane(normal, x, share * confidence);
         }
     }
     quadrics
@@ -812,6 +921,43 @@ mod tests {
             cmp.sharp
         );
         assert!(!sharp_edges(&mesh.positions, &mesh.faces, SHARP_ANGLE_DEG).is_empty());
+    }
+
+    #[test]
+    fn the_judge_picks_the_last_round_it_accepts_or_none() {
+        let half = Vec3::new(0.9, 0.45, 0.63);
+        let points = sample_surface(&cuboid(-half, half), 4096, 1)
+            .unwrap()
+            .points;
+        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let blob = blob_of_box(half, 2);
+        let opts = SharpenOptions::default();
+        // Asked of the last round first: refusing three questions keeps round passes - 3.
+        let (mut mesh, mut asked) = (blob.clone(), 0);
+        let report = sharpen_judged(&mut mesh, &planes, &opts, |_| {
+            asked += 1;
+            asked > 3
+        });
+        assert_eq!(
+            (report.accepted, report.rounds_kept, asked),
+            (true, opts.passes - 3, 4)
+        );
+        assert_eq!(report.faces_out, mesh.faces.len());
+        assert_ne!(mesh, blob);
+        // Refusing every round leaves the mesh as it came.
+        let mut mesh = blob.clone();
+        let report = sharpen_judged(&mut mesh, &planes, &opts, |_| false);
+        assert_eq!((report.accepted, report.rounds_kept), (false, 0));
+        assert_eq!(mesh, blob);
+        assert!(
+            report.to_string().contains("kept the fitted one"),
+            "{report}"
+        );
+        // Accepting all is `sharpen`.
+        let (mut a, mut b) = (blob.clone(), blob.clone());
+        let judged = sharpen_judged(&mut a, &planes, &opts, |_| true);
+        assert_eq!(judged, sharpen(&mut b, &planes, &opts));
+        assert_eq!(a, b);
     }
 
     #[test]

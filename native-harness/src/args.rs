@@ -1,8 +1,37 @@
-//! Extraction options on the command line, shared by every command that extracts a mesh
-//! (`extract`, `reconstruct`, `generate`, `eval vae`, `eval generate`).
+//! Arguments several commands share: the extraction options (`extract`, `reconstruct`,
+//! `generate`, `eval vae`, `eval generate`) and the backend a model runs on.
 
+use anyhow::Result;
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, ValueEnum};
+use meshflow::burn::tensor::Device;
+use meshflow::device::{BackendKind, device};
 use meshflow::extract::{ExtractMethod, ExtractOptions};
+
+/// A flag that takes one of `names`, parsed by `T`'s `FromStr`; `--help` lists the names.
+pub fn one_of<T>(names: impl IntoIterator<Item = &'static str>) -> impl TypedValueParser<Value = T>
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+    T::Err: Into<Box<dyn std::error::Error + Send + Sync>>,
+{
+    PossibleValuesParser::new(names).try_map(|name| name.parse::<T>())
+}
+
+/// `--backend`: the library's [`BackendKind`] (cpu = Burn's flex backend, wgpu = burn-wgpu
+/// over Vulkan, ndarray = Burn's ndarray backend in a build with `--features ndarray`, for
+/// comparison with flex).
+#[derive(Args, Clone, Copy)]
+pub struct BackendArg {
+    #[arg(long = "backend", value_name = "BACKEND", default_value = "cpu", value_parser = one_of::<BackendKind>(BackendKind::ALL.map(BackendKind::name)))]
+    pub kind: BackendKind,
+}
+
+impl BackendArg {
+    /// The backend's device; an error when this build or machine has none.
+    pub fn device(self) -> Result<Device> {
+        device(self.kind).map_err(|e| anyhow::anyhow!(e))
+    }
+}
 
 /// `--extraction`: how edges become faces.
 #[derive(ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
@@ -14,8 +43,9 @@ pub enum Extraction {
     Paper,
 }
 
+/// The extraction options, for every command that extracts a mesh.
 #[derive(Args, Clone, Debug)]
-pub struct ExtractArgs {
+pub struct ExtractionArgs {
     /// How edges become faces: `manifold` (default) or the paper's Algorithm 1 (`paper`).
     #[arg(long, value_enum, default_value = "manifold")]
     pub extraction: Extraction,
@@ -43,7 +73,7 @@ pub struct ExtractArgs {
     pub drop_non_manifold: bool,
 }
 
-impl ExtractArgs {
+impl ExtractionArgs {
     /// The library's options for these flags; anything else stays at its default.
     pub fn options(&self) -> ExtractOptions {
         ExtractOptions {
