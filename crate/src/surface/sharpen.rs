@@ -124,9 +124,9 @@ pub struct SharpenReport {
     pub model_edges_kept: f32,
     /// The collapse tolerance used (RMS distance, the input's frame).
     pub tolerance: f32,
-    /// Whether generation kept the sharpened mesh (it does when the mesh is no farther from
-    /// the input points than before; `pipeline::generate::sharpen_kept`). `sharpen` itself
-    /// always sets it.
+    /// Whether a round's mesh was kept: [`sharpen`] always keeps the last; [`sharpen_judged`]
+    /// none when its judge accepts none (generation's judge: no farther from the input points
+    /// than the fitted mesh, `pipeline::generate::sharpen_kept`).
     pub accepted: bool,
     /// The distances to the input points that decided it (Chamfer to the points, holes
     /// counting against it, as candidates are ranked): the fitted mesh's and the sharpened
