@@ -982,3 +982,60 @@ pub fn write_glb(mesh: &Mesh) -> Vec<u8> {
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::primitives::cube;
+
+    /// Why the GLB container stays ours (docs/design.md section 7): `gltf`'s `Glb::from_slice`
+    /// subtracts 12 from this length unchecked.
+    #[test]
+    fn glb_header_length_under_12_is_an_error() {
+        let mut g = write_glb(&cube());
+        g[8..12].copy_from_slice(&4u32.to_le_bytes());
+        let e = read_glb(&g, &Limits::default()).unwrap_err();
+        assert!(matches!(e, ReadError::Malformed { .. }), "{e:?}");
+    }
+
+    /// Chunks of an unknown type are skipped, as the GLB specification asks.
+    #[test]
+    fn glb_unknown_chunks_are_ignored() {
+        let mut g = write_glb(&cube());
+        g.extend_from_slice(&4u32.to_le_bytes());
+        g.extend_from_slice(b"XTRA");
+        g.extend_from_slice(&[0; 4]);
+        let len = g.len() as u32;
+        g[8..12].copy_from_slice(&len.to_le_bytes());
+        let m = read_glb(&g, &Limits::default()).unwrap();
+        assert_eq!(m.faces.len(), cube().faces.len());
+    }
+
+    /// A scene without `nodes` is valid glTF (our own empty GLB has one): it reads as empty,
+    /// not as malformed.
+    #[test]
+    fn scene_without_nodes_is_empty_not_malformed() {
+        let e = read_glb(&write_glb(&Mesh::default()), &Limits::default()).unwrap_err();
+        assert!(matches!(e, ReadError::Empty { .. }), "{e:?}");
+    }
+
+    /// The fuzz seeds read without panicking, and what they give passes `Mesh::validate`.
+    #[test]
+    fn fuzz_seeds_read() {
+        let seeds = Path::new(env!("CARGO_MANIFEST_DIR")).join("../fuzz/seeds");
+        for (dir, glb) in [("fuzz_gltf", false), ("fuzz_glb", true)] {
+            for entry in std::fs::read_dir(seeds.join(dir)).unwrap() {
+                let bytes = std::fs::read(entry.unwrap().path()).unwrap();
+                let limits = Limits::default();
+                let r = if glb {
+                    read_glb(&bytes, &limits)
+                } else {
+                    read_gltf(&bytes, &limits, None)
+                };
+                if let Ok(m) = r {
+                    assert!(m.validate().is_ok());
+                }
+            }
+        }
+    }
+}
