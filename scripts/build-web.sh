@@ -9,9 +9,8 @@
 # 3. in the WebGPU module, replaces the matmul kernels WebGPU can never launch with `unreachable`
 #    (scripts/snip-wasm.mjs; see SNIP below), then shrinks each module with npm binaryen@132's
 #    `wasm-opt -Oz` (Debian's binaryen 108 corrupts this module; docs/design.md section 6);
-# 4. writes the half-size (f16) weights the page and npm package download by default
-#    (scripts/half-weights.mjs: weights/ -> weights/f16/);
-# 5. prints both modules' sizes, raw and gzipped.
+# 4. prints both modules' sizes, raw and gzipped.
+# The page and the npm package download weights/ as it is (f16, the files the CLI runs).
 #
 # Size flags (BENCHMARKS.md "Module and weight sizes"; how they were chosen:
 # docs/experiments/2026-11-25-wasm-module-size.md): `-Z location-detail=none` drops the file and
@@ -86,9 +85,6 @@ build_module() {
 mkdir -p "$OUT"
 build_module meshflow snip --no-default-features --features web,wgpu
 build_module meshflow_cpu no-snip --features web
-
-log "half-size weights for the browser -> weights/f16/"
-node scripts/half-weights.mjs weights weights/f16
 
 for name in meshflow meshflow_cpu; do
     raw=$(stat -c %s "$OUT/${name}_bg.wasm")

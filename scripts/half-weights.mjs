@@ -1,17 +1,20 @@
-// Half-size weights for the browser: `node scripts/half-weights.mjs [SRC] [DST]` (default
-// weights/ -> weights/f16/) rewrites vae.safetensors and dit.safetensors with every F32 tensor
-// rounded to F16 (round to nearest, ties to even), and their manifests with the new sha256
-// (the DiT's manifest names the new VAE file; `converted_from_sha256` keeps the original's).
-// The page and the npm package download these by default: half the bytes. The Rust loader
-// reads F16 exactly (crate/src/model/weights.rs), so the f32 files stay loadable as they are.
+// Half-size weights: `node scripts/half-weights.mjs [SRC] [DST]` (default weights/ in place)
+// rewrites vae.safetensors and dit.safetensors of SRC (each one that is there) with every F32
+// tensor rounded to F16 (round to nearest, ties to even) into DST, and their manifests with
+// the new sha256 (`converted_from_sha256` keeps the original's; a DiT trained on the VAE
+// converted in the same call names the new VAE file). A file already in F16 is left as it is.
+// Every surface runs these (the CLI, the crate's tests, the page and the npm package), so one
+// file gives one mesh everywhere; test-split generation with F16 is within noise of F32 over
+// two seeds (docs/experiments/2026-12-02-f16-weights.md). Training writes F32; its ship step
+// runs this. The Rust loader reads F16 exactly (crate/src/model/weights.rs).
 import { createHash } from 'node:crypto';
-import { mkdirSync, readFileSync, renameSync, writeFileSync } from 'node:fs';
+import { existsSync, mkdirSync, readFileSync, renameSync, writeFileSync } from 'node:fs';
 import { join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 
 const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const src = resolve(process.argv[2] ?? join(ROOT, 'weights'));
-const dst = resolve(process.argv[3] ?? join(src, 'f16'));
+const dst = resolve(process.argv[3] ?? src);
 
 const word = new Float32Array(1);
 const bits = new Uint32Array(word.buffer);
@@ -86,22 +89,40 @@ function writeAtomic(path, bytes) {
   renameSync(`${path}.partial`, path);
 }
 
+/** Whether a safetensors file holds any F32 tensor. */
+function hasF32(bytes) {
+  const view = new DataView(bytes.buffer, bytes.byteOffset, bytes.byteLength);
+  const headerLength = Number(view.getBigUint64(0, true));
+  const header = JSON.parse(new TextDecoder().decode(bytes.subarray(8, 8 + headerLength)));
+  return Object.entries(header).some(([k, v]) => k !== '__metadata__' && v.dtype === 'F32');
+}
+
 function main() {
   mkdirSync(dst, { recursive: true });
-  const shas = {};
+  const converted = {};
   for (const name of ['vae', 'dit']) {
+    if (!existsSync(join(src, `${name}.safetensors`))) continue;
     const original = readFileSync(join(src, `${name}.safetensors`));
     const manifest = JSON.parse(readFileSync(join(src, `${name}.manifest.json`), 'utf8'));
     if (manifest.sha256 !== sha256(original)) {
       throw new Error(`${name}.safetensors does not match its manifest's sha256`);
     }
+    if (!hasF32(original)) {
+      console.log(`[half-weights] ${name}: already f16`);
+      if (src !== dst) {
+        writeAtomic(join(dst, `${name}.safetensors`), original);
+        writeAtomic(join(dst, `${name}.manifest.json`), `${JSON.stringify(manifest, null, 2)}\n`);
+      }
+      continue;
+    }
     const halved = halveSafetensors(original);
-    shas[name] = sha256(halved);
+    const halvedSha = sha256(halved);
+    converted[manifest.sha256] = halvedSha;
     manifest.converted_from_sha256 = manifest.sha256;
-    manifest.sha256 = shas[name];
+    manifest.sha256 = halvedSha;
     manifest.dtype = 'f16';
-    if (name === 'dit') {
-      manifest.vae_sha256 = shas.vae;
+    if (name === 'dit' && converted[manifest.vae_sha256]) {
+      manifest.vae_sha256 = converted[manifest.vae_sha256];
       // The half VAE's latent space is not bit-identical to the original's.
       delete manifest.vae_latent_space_sha256;
     }

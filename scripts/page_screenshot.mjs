@@ -1,6 +1,6 @@
 // The screenshot at the top of README.md (docs/web/page.png): the page in Debian's headless
 // Chromium, driven by playwright-core the way tests/e2e/browser.test.mjs drives it.
-//   bash scripts/build-web.sh                      # once: web/pkg/ and weights/f16/
+//   bash scripts/build-web.sh                      # once: web/pkg/
 //   node scripts/page_screenshot.mjs [OUT.png]     # default docs/web/page.png
 // Serves the repository root (web/serve.mjs), opens /web/?backend=cpu in a 1280x800 viewport
 // (no WebGPU flags: the CPU path inside WebAssembly, drawn by the 2D viewer), picks the bundled

@@ -19,4 +19,4 @@ VAE="${VAE:+$(realpath "$VAE")}"
 source "$(dirname "${BASH_SOURCE[0]}")/train_stages.sh"
 
 stage "$RUN" train dit --vae "${VAE:-weights}" --config weights/dit.train.json --data-parallel 2
-echo "[train_dit.sh] ship: cp $RUN/dit.{safetensors,json,manifest.json} weights/"
+echo "[train_dit.sh] ship: cp $RUN/dit.{safetensors,json,manifest.json} weights/ && node scripts/half-weights.mjs"

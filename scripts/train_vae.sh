@@ -29,4 +29,4 @@ if [[ ! -f "$RUN/base/vae.manifest.json" ]]; then
 fi
 stage "$RUN/decoder" train vae --config weights/vae.pair.train.json --init "$RUN/base" \
     --data-parallel 2
-echo "[train_vae.sh] ship: cp $RUN/decoder/vae.{safetensors,json,manifest.json} weights/"
+echo "[train_vae.sh] ship: cp $RUN/decoder/vae.{safetensors,json,manifest.json} weights/ && node scripts/half-weights.mjs"

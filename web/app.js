@@ -107,7 +107,7 @@ let backend = null;
 function startWorker(asked) {
   worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   worker.onmessage = onWorkerMessage;
-  worker.postMessage({ type: 'load', backend: asked, weights: params.get('weights') ?? 'f16' });
+  worker.postMessage({ type: 'load', backend: asked });
 }
 
 // The GPU device was lost (a reset, a driver crash) or failed mid-generation: a fresh worker

@@ -13,8 +13,8 @@ self.onmessage = async ({ data }) => {
   try {
     if (data.type === 'load') {
       model = await loadModel({
-        // Half-size weights unless the page asks for the f32 originals (?weights=f32).
-        weights: new URL(data.weights === 'f32' ? '../weights/' : '../weights/f16/', self.location.href),
+        // The shipped weights (f16), the files the CLI runs.
+        weights: new URL('../weights/', self.location.href),
         backend: data.backend ?? 'auto',
         onProgress: (got, total) => post({ type: 'weights', got, total }),
       });

@@ -1,5 +1,6 @@
 //! The shipped pair in `weights/`: the DiT's manifest names the VAE it was trained on, by file
-//! and by latent space, and both identities hold for the VAE that ships beside it.
+//! (and by latent space where it records one), and that identity holds for the VAE that ships
+//! beside it.
 
 use burn::tensor::Device;
 use meshflow::pipeline::shipped::{load_dit, load_vae};
@@ -9,7 +10,7 @@ fn read(name: &str) -> Vec<u8> {
 }
 
 #[test]
-fn the_shipped_dit_fits_the_shipped_vae_latent_space() {
+fn the_shipped_dit_fits_the_shipped_vae() {
     let device = Device::flex();
     let (_, vae) = load_vae(
         &read("vae.manifest.json"),
@@ -19,10 +20,15 @@ fn the_shipped_dit_fits_the_shipped_vae_latent_space() {
     .unwrap();
     let dit_manifest: serde_json::Value =
         serde_json::from_slice(&read("dit.manifest.json")).unwrap();
+    // The f16 files: the DiT names the f16 VAE's file (scripts/half-weights.mjs drops the
+    // latent-space identity, which rounding changes).
     assert_eq!(
-        dit_manifest["vae_latent_space_sha256"].as_str(),
-        Some(vae.latent_space_sha256.as_str())
+        dit_manifest["vae_sha256"].as_str(),
+        Some(vae.sha256.as_str())
     );
+    if let Some(space) = dit_manifest["vae_latent_space_sha256"].as_str() {
+        assert_eq!(space, vae.latent_space_sha256);
+    }
     load_dit(
         &read("dit.manifest.json"),
         &read("dit.safetensors"),
@@ -30,7 +36,7 @@ fn the_shipped_dit_fits_the_shipped_vae_latent_space() {
         &device,
     )
     .unwrap();
-    // Another latent space is refused even when the file's sha256 is claimed to match.
+    // Another VAE (another file, another latent space) is refused.
     let mut other = vae.clone();
     other.latent_space_sha256 = "0".repeat(64);
     other.sha256 = "1".repeat(64);

@@ -108,8 +108,9 @@ fn the_kernel_refuses_flex_tensors_and_bad_shapes() {
 }
 
 /// The shipped VAE decodes seeded latents on lavapipe through [`Generator::decode`], which
-/// thresholds on the device; extraction from those bits and from the read-back embeddings
-/// gives the same meshes.
+/// thresholds on the device; the bits and the host's threshold of the read-back embeddings
+/// disagree at most on pairs within rounding of tau, and where they agree, extraction gives
+/// the same meshes.
 #[test]
 fn decoded_meshes_are_the_same_through_the_gpu_and_cpu_threshold() {
     let device = vulkan();
@@ -174,7 +175,38 @@ fn decoded_meshes_are_the_same_through_the_gpu_and_cpu_threshold() {
         |f: &[f32]| -> Vec<glam::Vec3> { f.chunks_exact(3).map(glam::Vec3::from_slice).collect() };
     let (e, w) = (cfg.edge_dim, words_per_row(n));
     let mut faces = 0;
+    let mut compared = 0;
     for k in 0..b {
+        // The device and the host compute each pair's distance in their own order of
+        // operations: a pair within rounding of tau may fall on either side (then the meshes
+        // may differ, rightly); any other pair must agree.
+        let h = |i: usize| &embeddings[(k * n + i) * e..(k * n + i + 1) * e];
+        let kept: Vec<usize> = (0..n).filter(|&i| logits[k * n + i] > 0.0).collect();
+        let kept_emb: Vec<f32> = kept.iter().flat_map(|&i| h(i).iter().copied()).collect();
+        let on_host: Vec<[u32; 2]> = spacetime_edges(&kept_emb, e, opts.tau)
+            .unwrap()
+            .into_iter()
+            .map(|[a, c]| [kept[a as usize] as u32, kept[c as usize] as u32])
+            .collect();
+        let on_device = edges_from_bits(&bits[k * n * w..(k + 1) * n * w], w, n).unwrap();
+        let differing: Vec<_> = on_device
+            .iter()
+            .filter(|p| !on_host.contains(p))
+            .chain(on_host.iter().filter(|p| !on_device.contains(p)))
+            .collect();
+        for &&[i, j] in &differing {
+            let d = spacetime_distance(h(i as usize), h(j as usize));
+            // f32 rounding of a sum over the embedding's channels near |tau| = 2.5.
+            assert!(
+                (d - opts.tau).abs() < 5e-5,
+                "mesh {k}: ({i}, {j}) at d = {d}"
+            );
+        }
+        let near_ties = differing.len();
+        if near_ties > 0 {
+            continue;
+        }
+        compared += 1;
         let pos = vec3s(&positions[k * n * 3..(k + 1) * n * 3]);
         let nrm = vec3s(&normals[k * n * 3..(k + 1) * n * 3]);
         let decoded = |edges| DecodedVertices {
@@ -199,12 +231,13 @@ fn decoded_meshes_are_the_same_through_the_gpu_and_cpu_threshold() {
             &opts,
         )
         .unwrap();
+        assert_eq!(gpu_report, cpu_report, "mesh {k}");
         assert_eq!(gpu, cpu, "mesh {k}");
         assert_eq!(gpu_report, cpu_report, "mesh {k}");
         faces += gpu.faces.len();
     }
     assert!(
-        faces > 0,
-        "the decoded latents make no faces; the comparison is empty"
+        compared > 0 && faces > 0,
+        "{compared} meshes compared, {faces} faces: the comparison is empty"
     );
 }

@@ -6,7 +6,7 @@ import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, writeFileSync, mkdirSync } from 'node:fs';
 import { tmpdir } from 'node:os';
-import { join, resolve } from 'node:path';
+import { basename, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { serve } from '../../web/serve.mjs';
 
@@ -124,8 +124,8 @@ await check('the page loads the model on WebGPU when asked and says so', async (
   await page.waitForFunction(() => document.body.dataset.viewer);
   assert((await page.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'not the wgpu viewer');
   assert(weightRequests.length === 2, `weight downloads: ${weightRequests.length}`);
-  // The half-size weights by default.
-  assert(weightRequests.every((u) => u.includes('/weights/f16/')), `not the f16 weights: ${weightRequests}`);
+  // The shipped weights, the files the CLI runs.
+  assert(weightRequests.every((u) => /\/weights\/(vae|dit)\.safetensors$/.test(u)), `not the shipped weights: ${weightRequests}`);
 });
 
 let timing = null;
@@ -464,15 +464,24 @@ const NATIVE_CLI = join(
 // positions (within 1e-4 below) can change which collapse goes first; it runs in its own check.
 const SAME_AS_NATIVE = { steps: 4, vertices: 160, seed: 7, samples: 1, sharpen: false };
 let wasmMeshes = null;
+// The default path (12 candidates, the budget rule, fitting, completion, hole closing) on the
+// bundled examples and the lantern: the page's CPU path and `meshflow generate` give the same
+// mesh. Sharpening, the default's last stage, is compared and reported, not held: its greedy
+// collapses are ordered by float costs, and the wasm and native CPU kernels round the model's
+// outputs differently (about 1e-5), which can reorder two near-equal collapses.
+const DEFAULT_PATH_INPUTS = [
+  FIXTURE,
+  ...JSON.parse(readFileSync(join(ROOT, 'web/examples/examples.json'), 'utf8')).map((e) => join(ROOT, 'web/examples', e.file)),
+];
+let wasmDefaults = null;
 
-await check('the npm package is publishable: `npm publish --dry-run` passes with the f16 weights', async () => {
+await check('the npm package is publishable: `npm publish --dry-run` passes with the shipped weights', async () => {
   const out = execFileSync('npm', ['publish', '--dry-run'], { cwd: ROOT, stdio: 'pipe', encoding: 'utf8' });
   const log = execFileSync('npm', ['pack', '--dry-run', '--json'], { cwd: ROOT, encoding: 'utf8' });
   const files = JSON.parse(log)[0].files.map((f) => f.path);
-  for (const f of ['web/pkg/meshflow_bg.wasm', 'web/pkg/meshflow_cpu_bg.wasm', 'weights/f16/vae.safetensors', 'weights/f16/dit.safetensors', 'web/lib/index.d.ts']) {
+  for (const f of ['web/pkg/meshflow_bg.wasm', 'web/pkg/meshflow_cpu_bg.wasm', 'weights/vae.safetensors', 'weights/dit.safetensors', 'weights/README.md', 'web/lib/index.d.ts']) {
     assert(files.includes(f), `${f} is not in the package: ${files}`);
   }
-  assert(!files.includes('weights/dit.safetensors'), 'the f32 weights doubled the package');
   void out;
 });
 
@@ -541,6 +550,15 @@ await check('the npm package imports and generates the way a user would', async 
                inconsistent: sharp.report.topology.inconsistent_winding_edges, holes: sharp.report.topology.holes,
                refined: sharp.report.sharpen.refined_faces, badSharpen },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
+           window.__defaults = {};
+           for (const name of ${JSON.stringify(DEFAULT_PATH_INPUTS.map((f) => basename(f)))}) {
+             const input = new Uint8Array(await (await fetch(name)).arrayBuffer());
+             const points = await readPoints(input, name);
+             window.__defaults[name] = {
+               unsharpened: Array.from((await model.generate(points, { sharpen: false })).toGlb()),
+               sharpened: Array.from((await model.generate(points)).toGlb()),
+             };
+           }
            window.__filtered = { faces: filtered.indices.length / 3, paper: paper.indices.length / 3,
              nonManifold: filtered.report.topology.non_manifold_edges, refused,
              manifold: { faces: mesh.indices.length / 3, nonManifold: mesh.report.topology.non_manifold_edges,
@@ -554,6 +572,7 @@ await check('the npm package imports and generates the way a user would', async 
      }`,
   );
   writeFileSync(join(app, 'lantern.ply'), readFileSync(FIXTURE));
+  for (const f of DEFAULT_PATH_INPUTS) writeFileSync(join(app, basename(f)), readFileSync(f));
   const { createServer } = await import('node:http');
   const appServer = createServer((req, res) => {
     const path = join(app, decodeURIComponent(new URL(req.url, 'http://x').pathname));
@@ -579,6 +598,7 @@ await check('the npm package imports and generates the way a user would', async 
   const filtered = await p.evaluate(() => window.__filtered);
   const optionChecks = await p.evaluate(() => window.__options);
   const modules = await p.evaluate(() => window.__modules);
+  wasmDefaults = await p.evaluate(() => window.__defaults);
   await b.close();
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
@@ -628,9 +648,8 @@ await check('wasm and native give the same mesh for the same seed and input', as
   for (const [wasmBackend, nativeBackend] of [['webgpu', 'wgpu'], ['cpu', 'cpu']]) {
     const file = join(out, `native-${nativeBackend}.glb`);
     const { steps, vertices, seed } = SAME_AS_NATIVE;
-    // The package loads the half-size weights by default; the native CLI reads them too.
     execFileSync(NATIVE_CLI, ['generate', FIXTURE, '-o', file, '--steps', String(steps), '--vertices',
-      String(vertices), '--seed', String(seed), '--samples', '1', '--no-sharpen', '--backend', nativeBackend, '--weights', 'weights/f16'],
+      String(vertices), '--seed', String(seed), '--samples', '1', '--no-sharpen', '--backend', nativeBackend],
     { cwd: ROOT, stdio: 'pipe' });
     const native = glbMesh(readFileSync(file));
     const wasm = wasmMeshes[wasmBackend];
@@ -645,6 +664,41 @@ await check('wasm and native give the same mesh for the same seed and input', as
     report.push(`${wasmBackend} vs native ${nativeBackend}: ${wasm.indices.length / 3} faces, max |dv| ${worst.toExponential(2)} (${modelFrame.toExponential(2)} in the model frame)`);
     assert(modelFrame <= 1e-4, report.at(-1));
   }
+  console.log(`  ${report.join('\n  ')}`);
+});
+
+await check('the CPU path inside wasm and `meshflow generate` make the same mesh at the defaults', async () => {
+  assert(wasmDefaults, 'the npm-package check produced no meshes at the defaults');
+  const report = [];
+  let sharpenedSame = 0;
+  const same = (a, b) => JSON.stringify(a.indices) === JSON.stringify(b.indices) && a.positions.length === b.positions.length;
+  for (const input of DEFAULT_PATH_INPUTS) {
+    const name = basename(input);
+    const native = {};
+    for (const [arm, flags] of [['unsharpened', ['--no-sharpen']], ['sharpened', []]]) {
+      const file = join(out, `native-default-${arm}-${name}.glb`);
+      execFileSync(NATIVE_CLI, ['generate', input, '-o', file, '--backend', 'cpu', ...flags], { cwd: ROOT, stdio: 'pipe' });
+      native[arm] = glbMesh(readFileSync(file));
+    }
+    const wasm = Object.fromEntries(Object.entries(wasmDefaults[name]).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
+    const n = native.unsharpened;
+    const w = wasm.unsharpened;
+    const faces = `${w.indices.length / 3} faces in wasm, ${n.indices.length / 3} native`;
+    assert(same(n, w), `${name}: faces differ (${faces})`);
+    // Within 1e-4 of the mesh's extent (the model frame spans 2).
+    const extent = Math.max(...[0, 1, 2].map((a) => {
+      const axis = n.positions.filter((_, i) => i % 3 === a);
+      return Math.max(...axis) - Math.min(...axis);
+    }));
+    let worst = 0;
+    n.positions.forEach((v, i) => { worst = Math.max(worst, Math.abs(v - w.positions[i])); });
+    const sharpened = same(native.sharpened, wasm.sharpened);
+    sharpenedSame += sharpened ? 1 : 0;
+    report.push(`${name}: ${faces}, max |dv| ${(worst / extent).toExponential(2)} of the extent; sharpened ` +
+      `${sharpened ? 'the same' : 'differs'} (${wasm.sharpened.indices.length / 3} faces in wasm, ${native.sharpened.indices.length / 3} native)`);
+    assert(worst / extent <= 1e-4, report.at(-1));
+  }
+  report.push(`sharpened at the defaults: ${sharpenedSame} of ${DEFAULT_PATH_INPUTS.length} the same`);
   console.log(`  ${report.join('\n  ')}`);
 });
 

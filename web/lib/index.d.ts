@@ -156,8 +156,8 @@ export class Model {
 
 export interface LoadOptions {
   /**
-   * Folder URL with vae.* and dit.* (default: the package's weights/f16/, half-size; the f32
-   * files in weights/ load as well).
+   * Folder URL with vae.* and dit.* (default: the package's weights/, the f16 files the CLI
+   * runs too; f32 files load as well).
    */
   weights?: string | URL;
   /**

@@ -311,12 +311,13 @@ export class Model {
 
 /**
  * Loads the shipped models. `weights`: the folder URL holding vae.* and dit.* (default: the
- * package's `weights/f16/`, half the bytes of the f32 files in `weights/`, which load too); `backend`: `'auto'` (the faster one here, see [`chooseBackend`]),
+ * package's `weights/`, the f16 files the CLI runs too, so the same input, options and seed give
+ * the same mesh); `backend`: `'auto'` (the faster one here, see [`chooseBackend`]),
  * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download. The model's
  * `backendReport` says which backend runs and why.
  */
 export async function loadModel({
-  weights = new URL('../../weights/f16/', import.meta.url),
+  weights = new URL('../../weights/', import.meta.url),
   backend = 'auto',
   onProgress,
   useCache = true,
