@@ -85,7 +85,8 @@ pub struct SamplingArgs {
     #[arg(long, default_value_t = 0)]
     seed: u64,
     /// Candidates drawn from different noise; the one kept lies closest to the input points,
-    /// each hole counting against it (each costs a whole generation; 1..=16).
+    /// each hole and its normals' disagreement with the points' planes counting against it
+    /// (each costs a whole generation; 1..=16).
     #[arg(long, default_value_t = GenerateOptions::default().samples)]
     samples: usize,
     #[arg(long, value_enum, default_value = "to-zero")]

@@ -196,6 +196,8 @@ pub struct Generated {
     pub close: CloseReport,
     pub sharpen: SharpenReport,
     pub topology: TopologyReport,
+    /// Its distance from the input as [`keep_best`] measured it, when it was measured.
+    pub input_score: Option<f64>,
     /// Stage times of the whole batch this mesh was generated in.
     pub times: StageTimes,
 }
@@ -372,15 +374,14 @@ impl Generator<'_> {
                 .into_iter()
                 .map(Some)
                 .collect();
-            let kept: Vec<Generated> = (0..n)
+            let candidates: Vec<Vec<Generated>> = (0..n)
                 .map(|k| {
-                    let candidates = (0..opts.samples)
+                    (0..opts.samples)
                         .filter_map(|j| all[k + j * n].take())
-                        .collect();
-                    keep_best(candidates, &inputs[k])
+                        .collect()
                 })
                 .collect();
-            return Ok(sharpen_all(kept, inputs, opts));
+            return Ok(keep_sharpened_all(candidates, inputs, opts));
         }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         let conditioned = self.condition_all(inputs, opts)?;
@@ -393,7 +394,11 @@ impl Generator<'_> {
         lengths.dedup();
         if lengths.len() == 1 {
             let out = self.generate_batch(conditioned, &seeds, opts, on_step)?;
-            return Ok(sharpen_all(out, inputs, opts));
+            return Ok(keep_sharpened_all(
+                out.into_iter().map(|g| vec![g]).collect(),
+                inputs,
+                opts,
+            ));
         }
         let mut out: Vec<Option<Generated>> = (0..inputs.len()).map(|_| None).collect();
         for len in lengths {
@@ -407,9 +412,9 @@ impl Generator<'_> {
         }
         let out = out
             .into_iter()
-            .map(|g| g.expect("every input is in one group"))
+            .map(|g| vec![g.expect("every input is in one group")])
             .collect();
-        Ok(sharpen_all(out, inputs, opts))
+        Ok(keep_sharpened_all(out, inputs, opts))
     }
 
     /// Stage 2: the latents of a prepared batch, read back (which ends the stage on
@@ -480,7 +485,7 @@ impl Generator<'_> {
     /// is [`GenerateError::NoPoints`]. With length buckets the batch takes the bucket of its
     /// largest budget; [`Self::generate`] splits batches by bucket first. For
     /// `opts.samples` candidates of one input, pass it that many times and keep one with
-    /// [`keep_best`] after [`Self::extract`], as [`Self::generate`] does.
+    /// [`keep_sharpened`] after [`Self::extract`], as [`Self::generate`] does.
     pub fn prepare(
         &self,
         inputs: &[Vec<Vec3>],
@@ -680,6 +685,7 @@ impl Generator<'_> {
                 complete: f.complete,
                 close: f.close,
                 sharpen: SharpenReport::default(),
+                input_score: None,
                 times: times.clone(),
             })
             .collect())
@@ -894,31 +900,62 @@ fn finish_one(
     })
 }
 
-/// Stage 6: the kept mesh sharpened against its input `points` (input frame;
-/// [`crate::surface::sharpen`]), after the manifold extraction only (its edits keep a manifold
-/// mesh manifold). Only the kept candidate is sharpened, so the stage costs one mesh's
-/// sharpening however many candidates were drawn; its time counts in `fit_s`. The mesh of the
-/// last round of sharpening that is no farther from the input points by [`keep_best`]'s
+/// Stage 6: the candidate a user would keep ([`keep_best`]), sharpened against its input
+/// `points` ([`sharpen_kept`]); the input's planes are fitted once for both. With one
+/// candidate and sharpening off, nothing is measured.
+pub fn keep_sharpened(
+    candidates: Vec<Generated>,
+    points: &[Vec3],
+    opts: &GenerateOptions,
+) -> Generated {
+    if candidates.len() == 1 && !sharpens(opts) {
+        return candidates.into_iter().next().expect("one candidate");
+    }
+    let planes = PointPlanes::new(points, opts.sharpen.plane_neighbours);
+    sharpen_kept(
+        keep_best(candidates, points, &planes),
+        points,
+        &planes,
+        opts,
+    )
+}
+
+/// Whether [`sharpen_kept`] edits: sharpening on, after the manifold extraction only (its
+/// edits keep a manifold mesh manifold).
+fn sharpens(opts: &GenerateOptions) -> bool {
+    opts.sharpen.enabled && opts.extract.method == ExtractMethod::Manifold
+}
+
+/// The kept mesh sharpened against its input `points` (input frame, with their `planes`;
+/// [`crate::surface::sharpen`]). Only the kept candidate is sharpened, so the stage costs
+/// one mesh's sharpening however many candidates were drawn; its time counts in `fit_s`. The
+/// mesh of the last round of sharpening that is no farther from the input by [`keep_best`]'s
 /// measure (times [`SharpenOptions::accept_ratio`]) replaces the kept one: where the model's
 /// mesh was too far off for the edits (loose flaps, crumpled sheets, thin parts the collapses
 /// would flatten), an earlier round or, when none passes, the mesh as it was stays
 /// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which).
-pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -> Generated {
-    if !opts.sharpen.enabled || opts.extract.method != ExtractMethod::Manifold {
+pub fn sharpen_kept(
+    mut g: Generated,
+    points: &[Vec3],
+    planes: &PointPlanes,
+    opts: &GenerateOptions,
+) -> Generated {
+    if !sharpens(opts) {
         return g;
     }
     let started = Instant::now();
-    let planes = PointPlanes::new(points, opts.sharpen.plane_neighbours);
     let mut mesh = g.mesh.clone();
-    // The last round no farther from the input points than the fitted mesh (times the
-    // ratio): later rounds are flatter, and where one strays (a flap of the model's the
-    // points do not back collapsed away) an earlier round may still be right.
-    let before = input_score(&g.mesh, g.topology.holes, points);
+    // The last round no farther from the input than the fitted mesh (times the ratio): later
+    // rounds are flatter, and where one strays (a flap of the model's the points do not back
+    // collapsed away) an earlier round may still be right.
+    let before = g
+        .input_score
+        .unwrap_or_else(|| input_score(&g.mesh, g.topology.holes, points, planes));
     let limit = opts.sharpen.accept_ratio * before;
     let mut last = None;
-    let mut report = sharpen_judged(&mut mesh, &planes, &opts.sharpen, |m| {
+    let mut report = sharpen_judged(&mut mesh, planes, &opts.sharpen, |m| {
         let topology = TopologyReport::of(m);
-        let score = input_score(m, topology.holes, points);
+        let score = input_score(m, topology.holes, points, planes);
         let ok = score <= limit;
         if ok || last.is_none() {
             last = Some((score, topology));
@@ -931,6 +968,7 @@ pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -
         if report.accepted {
             g.mesh = mesh;
             g.topology = topology;
+            g.input_score = Some(score);
         }
     }
     g.sharpen = report;
@@ -938,51 +976,64 @@ pub fn sharpen_kept(mut g: Generated, points: &[Vec3], opts: &GenerateOptions) -
     g
 }
 
-/// [`sharpen_kept`] of each output with its input, side by side.
-fn sharpen_all(
-    out: Vec<Generated>,
+/// [`keep_sharpened`] of each input's candidates, side by side.
+fn keep_sharpened_all(
+    candidates: Vec<Vec<Generated>>,
     inputs: &[Vec<Vec3>],
     opts: &GenerateOptions,
 ) -> Vec<Generated> {
-    let pairs: Vec<(Generated, &[Vec3])> = out
+    let pairs: Vec<(Vec<Generated>, &[Vec3])> = candidates
         .into_iter()
         .zip(inputs.iter().map(|p| p.as_slice()))
         .collect();
-    map_in_parallel(pairs, |_, (g, points)| sharpen_kept(g, points, opts))
+    map_in_parallel(pairs, |_, (c, points)| keep_sharpened(c, points, opts))
 }
 
-/// The candidate a user would keep ([`GenerateOptions::samples`]): the smallest Chamfer
-/// distance between its surface and `points` (the input, in the candidates' frame), each hole
-/// (as [`TopologyReport`] counts them) adding [`HOLE_WEIGHT`] of that distance, then the
-/// first. Only the output and the input decide, never a ground truth. Panics on no
-/// candidates.
-pub fn keep_best(mut candidates: Vec<Generated>, points: &[Vec3]) -> Generated {
-    // One candidate: nothing to score, so no surface sampling.
+/// The candidate a user would keep ([`GenerateOptions::samples`]): the one nearest the input
+/// `points` (in the candidates' frame, with their `planes`): the lowest Chamfer distance to
+/// them, each hole adding [`HOLE_WEIGHT`] of it and the disagreement of its normals with the
+/// planes [`NORMAL_WEIGHT`] times that, then the first; its score is kept in
+/// [`Generated::input_score`]. Only the output and the input decide, never a ground truth.
+/// Panics on no candidates.
+pub fn keep_best(
+    mut candidates: Vec<Generated>,
+    points: &[Vec3],
+    planes: &PointPlanes,
+) -> Generated {
+    // One candidate: nothing to choose, so no surface sampling.
     if candidates.len() == 1 {
         return candidates.remove(0);
     }
     let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| {
-        input_score(&g.mesh, g.topology.holes, points)
+        input_score(&g.mesh, g.topology.holes, points, planes)
     });
     let best = (0..candidates.len())
         .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
         .expect("at least one candidate");
-    candidates
+    let mut kept = candidates
         .into_iter()
         .nth(best)
-        .expect("the best is one of them")
+        .expect("the best is one of them");
+    kept.input_score = Some(scores[best]);
+    kept
 }
 
 /// How far a mesh is from the input `points` as [`keep_best`] and [`sharpen_kept`] judge it:
 /// the Chamfer distance between its surface and the points, each of its `holes` adding
-/// [`HOLE_WEIGHT`] of it (infinite when it cannot be sampled).
-fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3]) -> f64 {
-    sample_surface(mesh, SELECTION_SAMPLES, 0)
-        .ok()
-        .and_then(|s| chamfer_hausdorff(&s.points, points).ok())
-        .map_or(f64::INFINITY, |d| {
-            d.chamfer * (1.0 + HOLE_WEIGHT * holes as f64)
-        })
+/// [`HOLE_WEIGHT`] of it, and its disagreement with the input's `planes` (one minus
+/// [`PointPlanes::normal_agreement`]) [`NORMAL_WEIGHT`] times that (infinite when it cannot
+/// be sampled).
+fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3], planes: &PointPlanes) -> f64 {
+    let Ok(s) = sample_surface(mesh, SELECTION_SAMPLES, 0) else {
+        return f64::INFINITY;
+    };
+    let Ok(d) = chamfer_hausdorff(&s.points, points) else {
+        return f64::INFINITY;
+    };
+    let disagreement = planes
+        .normal_agreement(&s.points, &s.normals)
+        .map_or(0.0, |a| 1.0 - a);
+    d.chamfer * (1.0 + HOLE_WEIGHT * holes as f64) * (1.0 + NORMAL_WEIGHT * disagreement)
 }
 
 /// What a hole costs in [`keep_best`], as a fraction of the candidate's distance to the input.
@@ -992,6 +1043,13 @@ fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3]) -> f64 {
 /// more CD x100; at 0.5, 1.4 holes and most of the distance's gain
 /// (docs/experiments/2026-11-26-candidates-and-steps.md).
 pub const HOLE_WEIGHT: f64 = 0.5;
+
+/// What disagreeing with the input's planes costs in [`keep_best`] and in sharpening's
+/// judge, per unit of mean (1 - |cos|) between the surface's normals and the planes of the
+/// input points nearest it, as a fraction of the distance: a crumpled or bumpy candidate
+/// loses to a flat one equally near the points
+/// (docs/experiments/2026-12-02-normal-agreement.md).
+pub const NORMAL_WEIGHT: f64 = 1.0;
 
 /// Surface samples per candidate for [`keep_best`]'s distance to the input.
 const SELECTION_SAMPLES: usize = 2048;

@@ -266,6 +266,23 @@ impl PointPlanes {
         self.tree.size() == 0
     }
 
+    /// How well surface `normals` at `samples` agree with the input's planes: the mean
+    /// absolute cosine between each sample's normal and the plane normal that stands for the
+    /// input nearest it (as [`Self::nearest_plane`] picks), over samples with one; `None`
+    /// where none has. Normal consistency against the input, with no ground truth.
+    pub fn normal_agreement(&self, samples: &[Vec3], normals: &[Vec3]) -> Option<f64> {
+        let (mut sum, mut count) = (0.0f64, 0usize);
+        for (x, n) in samples.iter().zip(normals) {
+            if let Some((_, plane)) = self.nearest_plane(x.as_dvec3())
+                && plane != DVec3::ZERO
+            {
+                sum += n.as_dvec3().dot(plane).abs();
+                count += 1;
+            }
+        }
+        (count > 0).then(|| sum / count as f64)
+    }
+
     /// The point and plane normal that stand for the surface near `x`: the most confident of
     /// its 4 nearest points, the nearest among equals.
     fn nearest_plane(&self, x: DVec3) -> Option<(DVec3, DVec3)> {
@@ -888,6 +905,32 @@ mod tests {
             *p = p.lerp(on_cube, 0.6) * half + j * 0.03;
         }
         m
+    }
+
+    #[test]
+    fn a_box_agrees_with_its_own_planes_and_a_blob_of_it_less() {
+        let half = Vec3::new(0.9, 0.45, 0.63);
+        let truth = cuboid(-half, half);
+        let points = sample_surface(&truth, 4096, 1).unwrap().points;
+        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let agreement = |m: &Mesh| {
+            let s = sample_surface(m, 2048, 0).unwrap();
+            planes.normal_agreement(&s.points, &s.normals).unwrap()
+        };
+        let (box_, blob) = (agreement(&truth), agreement(&blob_of_box(half, 2)));
+        // 0.97 as the box's normal consistency against itself: samples within a spacing of
+        // a crease may take the other face's plane.
+        assert!(box_ > 0.95, "{box_}");
+        assert!(blob < box_ - 0.03, "box {box_}, blob {blob}");
+        // Winding does not matter (absolute cosine); no planes, no answer.
+        let s = sample_surface(&truth, 2048, 0).unwrap();
+        let flipped: Vec<Vec3> = s.normals.iter().map(|n| -*n).collect();
+        assert_eq!(planes.normal_agreement(&s.points, &flipped), Some(box_));
+        let none = PointPlanes::new(&[], 12);
+        assert_eq!(
+            none.normal_agreement(&points, &vec![Vec3::Z; points.len()]),
+            None
+        );
     }
 
     #[test]

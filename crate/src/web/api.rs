@@ -28,7 +28,7 @@ use crate::model::schedule::step_times;
 use crate::model::{add_pair_corrections, spacetime_distances};
 use crate::pipeline::generate::{
     DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    keep_best, kept_slots, read_bits, sharpen_kept,
+    keep_sharpened, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(feature = "wgpu")]
@@ -201,7 +201,7 @@ impl MeshFlow {
         };
         let points: Vec<Vec3> = points.chunks_exact(3).map(Vec3::from_slice).collect();
         let generator = self.generator();
-        // One batch row per candidate (`samples`); `keep_best` picks one after extraction.
+        // One batch row per candidate (`samples`); `keep_sharpened` keeps one after extraction.
         let candidates = vec![points.clone(); opts.samples];
         let mut prepared = generator.prepare(&candidates, &opts).map_err(js_error)?;
 
@@ -274,7 +274,7 @@ impl MeshFlow {
             .extract(prepared, &host, &opts)
             .map_err(js_error)?;
         Ok(GeneratedMesh {
-            generated: sharpen_kept(keep_best(out, &points), &points, &opts),
+            generated: keep_sharpened(out, &points, &opts),
             samples: opts.samples,
         })
     }
