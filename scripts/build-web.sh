@@ -3,7 +3,8 @@
 #
 # 1. compiles the crate's wasm-bindgen API for wasm32 as a cdylib in the `wasm-release` profile
 #    (opt-level z, fat LTO), twice: features `web,wgpu` without the default `cpu` (meshflow:
-#    WebGPU alone) and `web` (meshflow_cpu: the CPU path, the smaller download);
+#    WebGPU alone) and `web,webgl` (meshflow_cpu: the CPU path and its WebGL2 viewer, the smaller
+#    download);
 # 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
 #    with `--target web` into web/pkg/;
 # 3. in the WebGPU module, replaces the matmul kernels WebGPU can never launch with `unreachable`
@@ -84,7 +85,7 @@ build_module() {
 }
 mkdir -p "$OUT"
 build_module meshflow snip --no-default-features --features web,wgpu
-build_module meshflow_cpu no-snip --features web
+build_module meshflow_cpu no-snip --features web,webgl
 
 for name in meshflow meshflow_cpu; do
     raw=$(stat -c %s "$OUT/${name}_bg.wasm")

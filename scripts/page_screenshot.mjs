@@ -3,7 +3,7 @@
 //   bash scripts/build-web.sh                      # once: web/pkg/
 //   node scripts/page_screenshot.mjs [OUT.png]     # default docs/web/page.png
 // Serves the repository root (web/serve.mjs), opens /web/?backend=cpu in a 1280x800 viewport
-// (no WebGPU flags: the CPU path inside WebAssembly, drawn by the 2D viewer), picks the bundled
+// (no WebGPU flags: the CPU path inside WebAssembly, drawn by the wgpu viewer on WebGL2), picks the bundled
 // milk-truck example (web/examples/examples.json), generates at the page's defaults with the
 // input points overlay on (orange points over the mesh), saves a full-page screenshot (1280
 // wide, tall enough for the stats table) and prints the stats the page shows. CHROMIUM

@@ -17,7 +17,7 @@
 #             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
 #   node tests/snip-wasm.test.mjs          (the wasm snipping tool build-web.sh uses)
 #   bash scripts/build-web.sh              (the two wasm modules, into web/pkg/)
-#   cargo clippy --target wasm32-unknown-unknown -p meshflow [--no-default-features] --features web[,wgpu]
+#   cargo clippy --target wasm32-unknown-unknown -p meshflow [--no-default-features] --features web,webgl | web,wgpu
 #                --profile wasm-release -- -D warnings
 #                                          (the wasm-only code: web/api.rs, web/viewer.rs)
 #   node tests/e2e/browser.test.mjs        (the page and the npm package in
@@ -172,7 +172,7 @@ build_web() { bash scripts/build-web.sh; }
 # The wasm-only modules are invisible to the native clippy run above; both browser modules
 # (the CPU one and the WebGPU one, which has no CPU backend) are checked as built.
 check_clippy_wasm() {
-    cargo clippy --target wasm32-unknown-unknown -p meshflow --features web \
+    cargo clippy --target wasm32-unknown-unknown -p meshflow --features web,webgl \
         --profile wasm-release -- -D warnings &&
         cargo clippy --target wasm32-unknown-unknown -p meshflow --no-default-features \
             --features web,wgpu --profile wasm-release -- -D warnings

@@ -4,8 +4,11 @@
 struct View {
     // World to clip space.
     view_proj: mat4x4<f32>,
-    // World-space direction towards the light (the camera's, so the visible side is lit).
+    // World-space direction towards the key light (above the viewer, to the left); w is 1
+    // when a mesh is drawn (the points then take the overlay colour).
     light: vec4<f32>,
+    // World-space direction towards the viewer (the fill light).
+    eye: vec4<f32>,
     // Viewport width and height in pixels, point size in pixels, wireframe width in pixels.
     viewport: vec4<f32>,
 }
@@ -42,8 +45,10 @@ fn mesh_fragment(in: MeshOut, @builtin(front_facing) front: bool) -> @location(0
     if (!front) {
         n = -n;
     }
-    let light = 0.35 + 0.65 * abs(dot(n, view.light.xyz));
-    let base = vec3<f32>(0.55, 0.75, 1.0) * (0.47 + 0.43 * light);
+    // A key light from above and a dimmer fill from the eye over an ambient floor, so
+    // differently turned facets (a dent, a fold) read apart.
+    let light = 0.24 + 0.56 * max(dot(n, view.light.xyz), 0.0) + 0.2 * max(dot(n, view.eye.xyz), 0.0);
+    let base = vec3<f32>(0.6, 0.76, 1.0) * light;
     // Distance to the nearest edge in pixels, from the barycentric's screen-space derivative.
     let d = in.barycentric / max(fwidth(in.barycentric), vec3<f32>(1e-6));
     let edge = min(min(d.x, d.y), d.z);
@@ -73,5 +78,9 @@ fn point_vertex(@location(0) position: vec3<f32>, @builtin(vertex_index) index: 
 
 @fragment
 fn point_fragment() -> @location(0) vec4<f32> {
+    // Blue alone, orange over a mesh (so the fit to them reads at a glance), as the 2D viewer.
+    if (view.light.w > 0.5) {
+        return vec4<f32>(0.88, 0.44, 0.1, 1.0);
+    }
     return vec4<f32>(0.29, 0.44, 0.65, 1.0);
 }

@@ -1,7 +1,7 @@
-// The page: file input, controls, progress, stats and downloads. The model runs in a worker.
-// On WebGPU the worker also draws the mesh (the wgpu viewer in Rust, on the model's device,
-// into the canvas handed over as an OffscreenCanvas); on the CPU backend the 2D viewer draws
-// here.
+// The page: file input, controls, progress, stats and downloads. The model runs in a worker,
+// which also draws the mesh: the wgpu viewer in Rust, into the canvas handed over as an
+// OffscreenCanvas, on the model's WebGPU device or, on the CPU backend, on WebGL2. Where
+// neither can draw (no OffscreenCanvas, no WebGL2) the 2D viewer draws here.
 import { bindControls } from './controls.js';
 import { clearWeightsCache } from './lib/index.js';
 import { Viewer2D } from './viewer2d.js';
@@ -137,7 +137,7 @@ function onWorkerMessage({ data }) {
     case 'ready':
       ready = true;
       backend = data.backend;
-      if (data.backend === 'webgpu' && 'transferControlToOffscreen' in HTMLCanvasElement.prototype) {
+      if ('transferControlToOffscreen' in HTMLCanvasElement.prototype) {
         const offscreen = $('canvas').transferControlToOffscreen();
         worker.postMessage({ type: 'viewer', canvas: offscreen }, [offscreen]);
         useViewer(new WorkerViewer(), $('canvas'));
@@ -187,6 +187,10 @@ function onWorkerMessage({ data }) {
       $('downloads').hidden = false;
       document.body.dataset.generated = String((Number(document.body.dataset.generated) || 0) + 1);
       setRunning(false);
+      break;
+    case 'viewer-ready':
+      // Which API the wgpu viewer draws with: 'webgpu' or 'webgl2'.
+      document.body.dataset.viewerApi = data.api;
       break;
     case 'viewer-error':
       // The wgpu viewer could not start: draw with the 2D one on a new canvas, and say so.

@@ -3,7 +3,8 @@ import { loadModel, readInput, wasmMemoryBytes, wasmModule } from './lib/index.j
 
 let model = null;
 let abort = null;
-// The wgpu viewer (WebGPU only) and what it shows, kept so a viewer created later shows it.
+// The wgpu viewer (on the model's WebGPU device, or on WebGL2 for the CPU path) and what it
+// shows, kept so a viewer created later shows it.
 let viewer = null;
 let scene = { points: null, mesh: null };
 
@@ -58,9 +59,10 @@ self.onmessage = async ({ data }) => {
       );
     } else if (data.type === 'viewer') {
       try {
-        viewer = model.createViewer(data.canvas);
+        viewer = await model.createViewer(data.canvas);
         if (scene.points) viewer.setPoints(scene.points);
         if (scene.mesh) viewer.setMesh(scene.mesh.positions, scene.mesh.indices);
+        post({ type: 'viewer-ready', api: viewer.api });
       } catch (e) {
         viewer = null;
         post({ type: 'viewer-error', message: e?.message ?? String(e) });

@@ -37,11 +37,11 @@ function assert(cond, message) {
   if (!cond) throw new Error(message);
 }
 
-async function launch(webgpu) {
+async function launch(webgpu, extra = []) {
   return chromium.launch({
     executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
     headless: true,
-    args: ['--no-sandbox', ...(webgpu ? WEBGPU_FLAGS : [])],
+    args: ['--no-sandbox', ...(webgpu ? WEBGPU_FLAGS : []), ...extra],
   });
 }
 
@@ -71,8 +71,14 @@ async function generate(page, { vertices = 160, steps = 4, samples = 1 } = {}) {
 }
 
 async function canvasInkPixels(page) {
+  return (await canvasInk(page)).ink;
+}
+
+// The canvas as shown: how many pixels are not the white background, and how many shades
+// (colours to 5 bits a channel) those take: a lit, flat-shaded mesh has a shade per facing.
+async function canvasInk(page) {
   const png = await page.locator('#canvas').screenshot();
-  // Count pixels that are not the white background, decoding the PNG in the page.
+  // Decoding the PNG in the page.
   return page.evaluate(async (b64) => {
     const img = new Image();
     img.src = `data:image/png;base64,${b64}`;
@@ -82,8 +88,14 @@ async function canvasInkPixels(page) {
     ctx.drawImage(img, 0, 0);
     const d = ctx.getImageData(0, 0, img.width, img.height).data;
     let ink = 0;
-    for (let i = 0; i < d.length; i += 4) if (d[i] < 235 || d[i + 1] < 235 || d[i + 2] < 235) ink++;
-    return ink;
+    const shades = new Set();
+    for (let i = 0; i < d.length; i += 4) {
+      if (d[i] < 235 || d[i + 1] < 235 || d[i + 2] < 235) {
+        ink++;
+        shades.add(((d[i] >> 3) << 10) | ((d[i + 1] >> 3) << 5) | (d[i + 2] >> 3));
+      }
+    }
+    return { ink, shades: shades.size };
   }, png.toString('base64'));
 }
 
@@ -121,8 +133,9 @@ await check('the page loads the model on WebGPU when asked and says so', async (
   assert(backend === 'webgpu', `backend ${backend}`);
   assert((await page.textContent('#backend')).includes('WebGPU'), 'backend not announced');
   // The mesh is drawn by the wgpu viewer on the model's device, in the worker.
-  await page.waitForFunction(() => document.body.dataset.viewer);
+  await page.waitForFunction(() => document.body.dataset.viewerApi);
   assert((await page.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'not the wgpu viewer');
+  assert((await page.evaluate(() => document.body.dataset.viewerApi)) === 'webgpu', 'the viewer is not on WebGPU');
   assert(weightRequests.length === 2, `weight downloads: ${weightRequests.length}`);
   // The shipped weights, the files the CLI runs.
   assert(weightRequests.every((u) => /\/weights\/(vae|dit)\.safetensors$/.test(u)), `not the shipped weights: ${weightRequests}`);
@@ -290,17 +303,24 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
   assert((await p.evaluate(() => document.body.dataset.backend)) === 'cpu', 'not cpu');
   assert((await p.textContent('#backend')).includes('CPU'), 'fallback not announced');
-  assert((await p.evaluate(() => document.body.dataset.viewer)) === '2d', 'no WebGPU, yet not the 2D viewer');
+  // No GPU device to share: the same wgpu viewer draws on a WebGL2 context of its own.
+  await p.waitForFunction(() => document.body.dataset.viewerApi);
+  assert((await p.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'the CPU path is not drawn by the wgpu viewer');
+  assert((await p.evaluate(() => document.body.dataset.viewerApi)) === 'webgl2', 'the CPU path\'s viewer is not on WebGL2');
   await p.setInputFiles('#file', FIXTURE);
   await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
-  const ink = await canvasInkPixels(p);
-  assert(ink > 500, `the 2D viewer drew only ${ink} pixels of the input points`);
+  const points = await canvasInk(p);
+  assert(points.ink > 500, `the WebGL2 viewer drew only ${points.ink} pixels of the input points`);
   await generate(p, { steps: 1 });
   // The input points are drawn over the mesh until the toggle turns them off.
   const withPoints = await canvasInkPixels(p);
   await p.uncheck('#show-points');
-  const without = await canvasInkPixels(p);
-  assert(without < withPoints, `hiding the points did not change the canvas (${withPoints} -> ${without} pixels)`);
+  const mesh = await canvasInk(p);
+  assert(mesh.ink < withPoints, `hiding the points did not change the canvas (${withPoints} -> ${mesh.ink} pixels)`);
+  // The mesh alone covers more of the canvas than the points did, in many shades (lit faces).
+  assert(mesh.ink > 2000 && mesh.ink > points.ink, `the mesh covers ${mesh.ink} pixels, the points ${points.ink}`);
+  assert(mesh.shades >= 12, `the mesh is drawn in ${mesh.shades} shades: not lit`);
+  await p.check('#show-points');
 
   // Every bundled example loads, with its source and license shown.
   const files = await p.$$eval('#example option', (os) => os.map((o) => o.value).filter(Boolean));
@@ -316,6 +336,22 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('normals'));
   await generate(p, { steps: 1 });
   await cpu.close();
+});
+
+await check('without WebGL2 either, the page draws with its 2D viewer', async () => {
+  const bare = await launch(false, ['--disable-3d-apis']);
+  const p = await bare.newPage();
+  await p.goto(`${base}/web/`);
+  await p.waitForFunction(() => document.body.dataset.viewer === '2d', null, { timeout: 120_000 });
+  await p.setInputFiles('#file', FIXTURE);
+  await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+  const ink = await canvasInkPixels(p);
+  assert(ink > 500, `the 2D viewer drew only ${ink} pixels of the input points`);
+  await generate(p, { steps: 1 });
+  await p.uncheck('#show-points');
+  const mesh = await canvasInkPixels(p);
+  assert(mesh > 2000, `the 2D viewer drew only ${mesh} pixels of the mesh`);
+  await bare.close();
 });
 
 // A binary little-endian PLY of `n` points on a sphere of radius 10.

@@ -106,8 +106,13 @@ export class GeneratedMesh {
   toObj(): string;
 }
 
-/** The wgpu mesh viewer: flat-shaded mesh, wireframe, input points, an orbit camera. */
+/**
+ * The wgpu mesh viewer: lit, depth-tested, flat-shaded mesh, wireframe, input points, an
+ * orbit camera; on WebGPU or (the CPU backend) WebGL2.
+ */
 export interface Viewer {
+  /** What draws: the model's WebGPU device, or the CPU path's own WebGL2 context. */
+  readonly api: 'webgpu' | 'webgl2';
   /** x, y, z per vertex and three indices per face; fits the view. */
   setMesh(positions: Float32Array, indices: Uint32Array): void;
   /** The input points (clears the mesh); shown over the next mesh unless turned off. */
@@ -150,8 +155,11 @@ export class Model {
   generate(points: Float32Array, options?: GenerateOptions): Promise<GeneratedMesh>;
   /** Destroys the WebGPU device as a GPU reset would (for testing fallbacks). */
   destroyDevice(): void;
-  /** A viewer on this model's WebGPU device; throws on the CPU backend. */
-  createViewer(canvas: OffscreenCanvas): Viewer;
+  /**
+   * A viewer drawing into `canvas`: on this model's WebGPU device, or on the CPU backend
+   * through WebGL2. Rejects where the canvas gives neither.
+   */
+  createViewer(canvas: OffscreenCanvas): Promise<Viewer>;
 }
 
 export interface LoadOptions {

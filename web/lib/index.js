@@ -240,11 +240,13 @@ export class Model {
     this.#inner.destroyDevice();
   }
   /**
-   * A wgpu viewer drawing into `canvas` (an OffscreenCanvas, e.g. from
-   * `canvas.transferControlToOffscreen()`) on this model's WebGPU device: `setPoints`,
-   * `setMesh`, `orbit`, `pan`, `zoom`, `fit`, `render`. Throws on the CPU backend.
+   * A promise of a wgpu viewer drawing into `canvas` (an OffscreenCanvas, e.g. from
+   * `canvas.transferControlToOffscreen()`): on this model's WebGPU device, or on the CPU
+   * backend through a WebGL2 context of its own (the same renderer). `setPoints`, `setMesh`,
+   * `setPointsOverlay`, `orbit`, `pan`, `zoom`, `fit`, `render`; `api` says which draws.
+   * Rejects where the canvas gives neither.
    */
-  createViewer(canvas) {
+  async createViewer(canvas) {
     return this.#inner.createViewer(canvas);
   }
   /**

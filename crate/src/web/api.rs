@@ -31,7 +31,7 @@ use crate::pipeline::generate::{
     keep_sharpened, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
-#[cfg(feature = "wgpu")]
+#[cfg(any(feature = "wgpu", feature = "webgl"))]
 use crate::web::viewer::Viewer;
 
 #[wasm_bindgen(start)]
@@ -130,25 +130,44 @@ impl MeshFlow {
     }
 
     /// A wgpu viewer drawing into `canvas` (an `OffscreenCanvas`) on this model's WebGPU
-    /// device. The CPU backend has no device to share: that is an error, and the page draws
-    /// with its 2D-canvas viewer instead.
+    /// device: a promise of the [`Viewer`], as in the CPU module.
     #[cfg(feature = "wgpu")]
     #[wasm_bindgen(js_name = createViewer)]
-    pub fn create_viewer(&self, canvas: web_sys::OffscreenCanvas) -> Result<Viewer, JsError> {
-        let setup = self.setup.as_ref().ok_or_else(|| {
-            js_error("the wgpu viewer needs the WebGPU backend; this model runs on the CPU")
-        })?;
-        Viewer::new(setup, canvas).map_err(js_error)
+    pub fn create_viewer(&self, canvas: web_sys::OffscreenCanvas) -> js_sys::Promise {
+        let viewer = self
+            .setup
+            .as_ref()
+            .ok_or_else(|| String::from("the wgpu viewer needs the WebGPU backend"))
+            .and_then(|setup| Viewer::on_webgpu(setup, canvas));
+        match viewer {
+            Ok(v) => js_sys::Promise::resolve(&JsValue::from(v)),
+            Err(e) => js_sys::Promise::reject(&js_error(e).into()),
+        }
     }
 
-    /// The CPU-only module has no viewer: always an error (the page draws with its 2D-canvas
-    /// viewer instead).
-    #[cfg(not(feature = "wgpu"))]
+    /// The CPU module's viewer: wgpu on a WebGL2 context of its own in `canvas` (an
+    /// `OffscreenCanvas`), the same renderer as on WebGPU. A promise of the [`Viewer`],
+    /// rejected where the browser gives no WebGL2 context (the page then draws in 2D).
+    #[cfg(all(feature = "webgl", not(feature = "wgpu")))]
     #[wasm_bindgen(js_name = createViewer)]
-    pub fn create_viewer(&self, _canvas: web_sys::OffscreenCanvas) -> Result<JsValue, JsError> {
-        Err(js_error(
-            "the wgpu viewer needs the WebGPU backend; this is the CPU-only module",
-        ))
+    pub fn create_viewer(&self, canvas: web_sys::OffscreenCanvas) -> js_sys::Promise {
+        wasm_bindgen_futures::future_to_promise(async move {
+            Viewer::on_webgl2(canvas)
+                .await
+                .map(JsValue::from)
+                .map_err(|e| js_error(e).into())
+        })
+    }
+
+    /// A CPU module built without feature `webgl` has no viewer: a rejected promise (the
+    /// page draws with its 2D-canvas viewer instead).
+    #[cfg(not(any(feature = "wgpu", feature = "webgl")))]
+    #[wasm_bindgen(js_name = createViewer)]
+    pub fn create_viewer(&self, _canvas: web_sys::OffscreenCanvas) -> js_sys::Promise {
+        js_sys::Promise::reject(
+            &js_error("this CPU module was built without its WebGL2 viewer (feature `webgl`)")
+                .into(),
+        )
     }
 
     /// Destroys the WebGPU device, as a GPU reset or driver crash would: every later use

@@ -80,6 +80,14 @@ impl OrbitCamera {
         self.target + dir * self.distance
     }
 
+    /// The direction towards the key light: above the viewer and to the left, turning with
+    /// the view, so faces turned different ways get different shades from every side.
+    pub fn key_light(&self) -> Vec3 {
+        let (right, up) = self.axes();
+        let back = (self.eye() - self.target).normalize_or(Vec3::Z);
+        (back + up * 0.8 - right * 0.5).normalize()
+    }
+
     fn axes(&self) -> (Vec3, Vec3) {
         let forward = (self.target - self.eye()).normalize();
         let right = forward.cross(Vec3::Y).normalize_or(Vec3::X);

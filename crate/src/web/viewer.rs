@@ -1,9 +1,12 @@
-//! The page's mesh viewer (wasm32, feature `web`): a wgpu renderer on the device Burn's WebGPU
-//! backend already holds, drawing into an `OffscreenCanvas` (so it runs in the page's worker).
+//! The page's mesh viewer (wasm32, feature `web`): a wgpu renderer drawing into an
+//! `OffscreenCanvas` (so it runs in the page's worker), on the device Burn's WebGPU backend
+//! already holds (feature `wgpu`), or in the CPU module on a WebGL2 context of its own
+//! (feature `webgl`: wgpu's GL backend), so both paths show the same lit, depth-tested view.
 //! The generated mesh is flat-shaded with its wireframe over it (topology is what this product
 //! is about), the input points are small squares; an orbit camera (glam) turns, zooms, pans
 //! and fits the view. Shaders: `shaders/viewer.wgsl`.
 
+#[cfg(feature = "wgpu")]
 use burn::tensor::wgpu::{WgpuSetup, wgpu};
 use glam::Vec3;
 
@@ -37,25 +40,81 @@ pub struct Viewer {
     points_over_mesh: bool,
     point_positions: Vec<f32>,
     camera: OrbitCamera,
+    /// What draws: "webgpu" or "webgl2".
+    api: &'static str,
 }
 
 impl Viewer {
     /// A viewer drawing into `canvas` with the device and queue of `setup` (Burn's).
-    pub fn new(setup: &WgpuSetup, canvas: web_sys::OffscreenCanvas) -> Result<Viewer, String> {
+    #[cfg(feature = "wgpu")]
+    pub fn on_webgpu(
+        setup: &WgpuSetup,
+        canvas: web_sys::OffscreenCanvas,
+    ) -> Result<Viewer, String> {
         let (width, height) = (canvas.width().max(1), canvas.height().max(1));
         let surface = setup
             .instance
             .create_surface(wgpu::SurfaceTarget::OffscreenCanvas(canvas))
             .map_err(|e| format!("cannot draw on the canvas with WebGPU: {e}"))?;
+        Viewer::on_device(
+            surface,
+            &setup.adapter,
+            setup.device.clone(),
+            setup.queue.clone(),
+            (width, height),
+            "webgpu",
+        )
+    }
+
+    /// A viewer drawing into `canvas` through a WebGL2 context of its own (wgpu's GL backend),
+    /// for the CPU path, which has no GPU device to share.
+    #[cfg(all(feature = "webgl", not(feature = "wgpu")))]
+    pub async fn on_webgl2(canvas: web_sys::OffscreenCanvas) -> Result<Viewer, String> {
+        let (width, height) = (canvas.width().max(1), canvas.height().max(1));
+        let instance = wgpu::Instance::new(wgpu::InstanceDescriptor {
+            backends: wgpu::Backends::GL,
+            ..wgpu::InstanceDescriptor::new_without_display_handle()
+        });
+        // On the web the GL context comes from the canvas, so the surface comes first.
+        let surface = instance
+            .create_surface(wgpu::SurfaceTarget::OffscreenCanvas(canvas))
+            .map_err(|e| format!("cannot draw on the canvas with WebGL2: {e}"))?;
+        let adapter = instance
+            .request_adapter(&wgpu::RequestAdapterOptions {
+                compatible_surface: Some(&surface),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| format!("no WebGL2 adapter for the canvas: {e}"))?;
+        let (device, queue) = adapter
+            .request_device(&wgpu::DeviceDescriptor {
+                label: Some("viewer"),
+                required_limits: wgpu::Limits::downlevel_webgl2_defaults()
+                    .using_resolution(adapter.limits()),
+                ..Default::default()
+            })
+            .await
+            .map_err(|e| format!("no WebGL2 device for the canvas: {e}"))?;
+        Viewer::on_device(surface, &adapter, device, queue, (width, height), "webgl2")
+    }
+
+    /// The pipelines and buffers on `device`, presenting to `surface` of `size` pixels.
+    fn on_device(
+        surface: wgpu::Surface<'static>,
+        adapter: &wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+        (width, height): (u32, u32),
+        api: &'static str,
+    ) -> Result<Viewer, String> {
         let mut config = surface
-            .get_default_config(&setup.adapter, width, height)
-            .ok_or("the WebGPU adapter cannot present to this canvas")?;
+            .get_default_config(adapter, width, height)
+            .ok_or("the adapter cannot present to this canvas")?;
         // A plain (non-sRGB) format where there is one, so the colours match the 2D viewer's.
-        let formats = surface.get_capabilities(&setup.adapter).formats;
+        let formats = surface.get_capabilities(adapter).formats;
         if let Some(&f) = formats.iter().find(|f| !f.is_srgb()) {
             config.format = f;
         }
-        let device = setup.device.clone();
         surface.configure(&device, &config);
 
         let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
@@ -64,7 +123,7 @@ impl Viewer {
         });
         let view_buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("view"),
-            size: 96,
+            size: 112,
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -147,7 +206,7 @@ impl Viewer {
         Ok(Viewer {
             surface,
             device,
-            queue: setup.queue.clone(),
+            queue,
             config,
             depth,
             mesh_pipeline,
@@ -160,6 +219,7 @@ impl Viewer {
             points_over_mesh: true,
             point_positions: Vec::new(),
             camera: OrbitCamera::default(),
+            api,
         })
     }
 
@@ -184,6 +244,12 @@ impl Viewer {
 
 #[wasm_bindgen]
 impl Viewer {
+    /// What draws: `"webgpu"` (the model's device) or `"webgl2"` (the CPU path's own context).
+    #[wasm_bindgen(getter)]
+    pub fn api(&self) -> String {
+        self.api.into()
+    }
+
     /// Shows a triangle mesh (x, y, z per vertex; three indices per face), fitted to the
     /// view; empty arrays clear it. Indices past the vertices are an error.
     #[wasm_bindgen(js_name = setMesh)]
@@ -276,7 +342,10 @@ impl Viewer {
         let (w, h) = (self.config.width as f32, self.config.height as f32);
         let view_proj = self.camera.view_proj(w / h);
         let mut uniform = view_proj.to_cols_array().to_vec();
+        let key = self.camera.key_light();
         let eye = (self.camera.eye() - self.camera.target).normalize_or(Vec3::Z);
+        let has_mesh = if self.mesh.is_some() { 1.0 } else { 0.0 };
+        uniform.extend_from_slice(&[key.x, key.y, key.z, has_mesh]);
         uniform.extend_from_slice(&[eye.x, eye.y, eye.z, 0.0, w, h, POINT_SIZE, WIRE_WIDTH]);
         self.queue
             .write_buffer(&self.view_buffer, 0, f32_bytes(&uniform));
