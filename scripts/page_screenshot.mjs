@@ -57,8 +57,9 @@ try {
   const wall = (Date.now() - t0) / 1000;
   if (await page.isVisible('#error')) throw new Error(`the page says: ${await page.textContent('#error')}`);
   if (!(await page.isChecked('#show-points'))) throw new Error('the points overlay is off');
-  // Let the 2D viewer paint the mesh before the screenshot.
-  await page.evaluate(() => new Promise((ok) => requestAnimationFrame(() => requestAnimationFrame(ok))));
+  // The worker's frame (its OffscreenCanvas) reaches the page's compositor after the message
+  // that the mesh is done: give it a moment before the screenshot.
+  await page.waitForTimeout(1000);
   // The whole page: the stats table runs below the 800-pixel fold.
   await page.screenshot({ path: OUT, fullPage: true });
 

@@ -70,8 +70,17 @@ async function generate(page, { vertices = 160, steps = 4, samples = 1 } = {}) {
   return { t0, t1 };
 }
 
-async function canvasInkPixels(page) {
-  return (await canvasInk(page)).ink;
+// canvasInk once the canvas has settled: the wgpu viewer draws in the worker, and its frame
+// reaches the page's compositor a little after the message that the mesh is done.
+async function settledInk(page) {
+  let last = await canvasInk(page);
+  for (let i = 0; i < 10; i++) {
+    await page.waitForTimeout(200);
+    const now = await canvasInk(page);
+    if (now.ink === last.ink && now.shades === last.shades) return now;
+    last = now;
+  }
+  return last;
 }
 
 // The canvas as shown: how many pixels are not the white background, and how many shades
@@ -148,7 +157,7 @@ await check('a fixture point cloud generates a visible mesh with stats', async (
   timing = await generate(page);
   const faces = await page.textContent('#stats tr[data-key="vertices / faces"] td:last-child');
   assert(Number(faces.split('/')[1]) > 0, `faces: ${faces}`);
-  const ink = await canvasInkPixels(page);
+  const ink = (await settledInk(page)).ink;
   assert(ink > 2000, `only ${ink} non-background pixels on the canvas`);
   await page.screenshot({ path: join(out, 'after.png') });
 });
@@ -309,13 +318,13 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   assert((await p.evaluate(() => document.body.dataset.viewerApi)) === 'webgl2', 'the CPU path\'s viewer is not on WebGL2');
   await p.setInputFiles('#file', FIXTURE);
   await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
-  const points = await canvasInk(p);
+  const points = await settledInk(p);
   assert(points.ink > 500, `the WebGL2 viewer drew only ${points.ink} pixels of the input points`);
   await generate(p, { steps: 1 });
   // The input points are drawn over the mesh until the toggle turns them off.
-  const withPoints = await canvasInkPixels(p);
+  const withPoints = (await settledInk(p)).ink;
   await p.uncheck('#show-points');
-  const mesh = await canvasInk(p);
+  const mesh = await settledInk(p);
   assert(mesh.ink < withPoints, `hiding the points did not change the canvas (${withPoints} -> ${mesh.ink} pixels)`);
   // The mesh alone covers more of the canvas than the points did, in many shades (lit faces).
   assert(mesh.ink > 2000 && mesh.ink > points.ink, `the mesh covers ${mesh.ink} pixels, the points ${points.ink}`);
@@ -345,11 +354,11 @@ await check('without WebGL2 either, the page draws with its 2D viewer', async ()
   await p.waitForFunction(() => document.body.dataset.viewer === '2d', null, { timeout: 120_000 });
   await p.setInputFiles('#file', FIXTURE);
   await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
-  const ink = await canvasInkPixels(p);
+  const ink = (await settledInk(p)).ink;
   assert(ink > 500, `the 2D viewer drew only ${ink} pixels of the input points`);
   await generate(p, { steps: 1 });
   await p.uncheck('#show-points');
-  const mesh = await canvasInkPixels(p);
+  const mesh = (await settledInk(p)).ink;
   assert(mesh > 2000, `the 2D viewer drew only ${mesh} pixels of the mesh`);
   await bare.close();
 });

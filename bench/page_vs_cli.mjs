@@ -1,0 +1,129 @@
+// The page's CPU path against `meshflow generate` on the same input and machine, side by side
+// in one run, per stage; and the page's first visit with an empty and with a warm cache.
+// Not a test: run it by hand on an otherwise idle machine, after building both,
+//   bash scripts/build-web.sh && cargo build --release -p meshflow-cli
+//   node bench/page_vs_cli.mjs [--rounds 3] [--input FILE] [-o bench/page_vs_cli.json]
+// First visit: a fresh browser profile opens /web/?backend=cpu, and the time from navigation
+// to the mesh on screen is taken (the weights downloaded from the local server, so the
+// network is not in it), then again after a reload (weights from Cache Storage, the wasm from
+// the HTTP cache). Then `--rounds` rounds alternate one warm page generation and one
+// `meshflow generate INPUT --json --backend cpu` process, both at the page's defaults (the
+// budget from the shape, 12 candidates of 4 midpoint steps, seed 0, sharpened): the page's
+// figure is click to mesh, the CLI's the whole process (start, weights, generation, GLB
+// written), and both report their stage times. MESHFLOW names the CLI (default
+// $CARGO_TARGET_DIR/release/meshflow); CHROMIUM the browser (default /usr/bin/chromium).
+import { chromium } from 'playwright-core';
+import { execFileSync, execSync } from 'node:child_process';
+import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
+import { cpus, homedir, tmpdir } from 'node:os';
+import { join, resolve } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { serve } from '../web/serve.mjs';
+
+const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
+const arg = (name, fallback) => (process.argv.includes(name) ? process.argv[process.argv.indexOf(name) + 1] : fallback);
+const rounds = Number(arg('--rounds', 3)) || 3;
+const input = resolve(arg('--input', join(ROOT, 'tests/fixtures/points/stone_lantern_2048.ply')));
+const outFile = arg('-o', join(ROOT, 'bench/page_vs_cli.json'));
+const meshflow =
+  process.env.MESHFLOW ?? join(process.env.CARGO_TARGET_DIR ?? join(homedir(), '.cache/meshflow/target'), 'release/meshflow');
+const STAGES = ['condition_s', 'sample_s', 'decode_s', 'extract_s', 'fit_s'];
+
+const server = await serve(0);
+const url = `http://127.0.0.1:${server.address().port}/web/?backend=cpu`;
+const work = mkdtempSync(join(tmpdir(), 'meshflow-page-vs-cli-'));
+
+// Navigation (or reload) to the mesh on screen, less the scripted file pick and clicks.
+async function pageRun(page, navigate) {
+  const start = Date.now();
+  if (navigate) await navigate();
+  let ready = 0;
+  if (navigate) {
+    await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 600_000 });
+    ready = (Date.now() - start) / 1000;
+    await page.setInputFiles('#file', input);
+    await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+  }
+  const before = Number(await page.evaluate(() => document.body.dataset.generated ?? 0));
+  const clicked = Date.now();
+  await page.click('#generate');
+  await page.waitForFunction((n) => Number(document.body.dataset.generated ?? 0) > n, before, { timeout: 1_800_000 });
+  const generate = (Date.now() - clicked) / 1000;
+  const report = await page.evaluate(() => window.__meshflowReport);
+  return {
+    model_ready_s: navigate ? ready : null,
+    generate_s: generate,
+    time_to_first_mesh_s: navigate ? ready + generate : null,
+    weights_from_cache: (await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'true',
+    stages_s: Object.fromEntries(STAGES.map((k) => [k, report.times[k]])),
+    vertices: report.topology.vertices,
+    faces: report.topology.faces,
+  };
+}
+
+function cliRun() {
+  const out = join(work, 'cli.glb');
+  const start = process.hrtime.bigint();
+  const stdout = execFileSync(meshflow, ['generate', input, '-o', out, '--json', '--backend', 'cpu'], { encoding: 'utf8' });
+  const wall = Number(process.hrtime.bigint() - start) / 1e9;
+  const r = JSON.parse(stdout.trim().split('\n').pop());
+  return {
+    process_s: wall,
+    load_s: r.load_s,
+    stages_s: Object.fromEntries(STAGES.map((k) => [k, r.times[k]])),
+    vertices: r.topology.vertices,
+    faces: r.topology.faces,
+  };
+}
+
+const profile = mkdtempSync(join(tmpdir(), 'meshflow-bench-'));
+const context = await chromium.launchPersistentContext(profile, {
+  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
+  headless: true,
+  args: ['--no-sandbox'],
+});
+const page = context.pages()[0] ?? (await context.newPage());
+const cold = await pageRun(page, () => page.goto(url));
+const warmVisit = await pageRun(page, () => page.reload());
+const pageRuns = [];
+const cliRuns = [];
+for (let i = 0; i < rounds; i++) {
+  pageRuns.push(await pageRun(page, null));
+  cliRuns.push(cliRun());
+  const p = pageRuns.at(-1), c = cliRuns.at(-1);
+  console.log(`round ${i + 1}: page ${p.generate_s.toFixed(2)} s (${p.faces} faces), CLI ${c.process_s.toFixed(2)} s (${c.faces} faces)`);
+}
+await context.close();
+server.close();
+rmSync(profile, { recursive: true, force: true });
+rmSync(work, { recursive: true, force: true });
+
+const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
+const pageMedian = median(pageRuns.map((r) => r.generate_s));
+const cliMedian = median(cliRuns.map((r) => r.process_s));
+const stageTable = STAGES.map((k) => ({
+  stage: k.replace(/_s$/, ''),
+  page_s: median(pageRuns.map((r) => r.stages_s[k])),
+  cli_s: median(cliRuns.map((r) => r.stages_s[k])),
+}));
+const cpuWasm = join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm');
+const result = {
+  method:
+    `node bench/page_vs_cli.mjs --rounds ${rounds}: headless ${execSync(`${process.env.CHROMIUM ?? '/usr/bin/chromium'} --version`).toString().trim()}, ` +
+    `the page's CPU path (one thread) and \`meshflow generate --backend cpu\` alternating on ${input.slice(ROOT.length + 1)} at the defaults; medians`,
+  machine: `${cpus()[0].model}, ${cpus().length} threads`,
+  commit: execSync('git rev-parse --short HEAD', { cwd: ROOT }).toString().trim(),
+  cpu_wasm_bytes: readFileSync(cpuWasm).length,
+  first_visit: { empty_cache: cold, warm_cache: warmVisit },
+  page_generate_s: pageMedian,
+  cli_process_s: cliMedian,
+  ratio: pageMedian / cliMedian,
+  stages: stageTable,
+  page: pageRuns,
+  cli: cliRuns,
+};
+writeFileSync(outFile, `${JSON.stringify(result, null, 2)}\n`);
+console.log(`first mesh from navigation: empty cache ${cold.time_to_first_mesh_s.toFixed(2)} s, warm ${warmVisit.time_to_first_mesh_s.toFixed(2)} s`);
+console.log(`page ${pageMedian.toFixed(2)} s against the CLI's ${cliMedian.toFixed(2)} s: ${(pageMedian / cliMedian).toFixed(2)}x`);
+for (const s of stageTable) console.log(`  ${s.stage.padEnd(10)} page ${s.page_s.toFixed(3)} s  CLI ${s.cli_s.toFixed(3)} s  ${(s.page_s / s.cli_s).toFixed(1)}x`);
+console.log(`written to ${outFile}`);
