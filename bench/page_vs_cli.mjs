@@ -10,7 +10,9 @@
 // `meshflow generate INPUT --json --backend cpu` process, both at the page's defaults (the
 // budget from the shape, 12 candidates of 4 midpoint steps, seed 0, sharpened): the page's
 // figure is click to mesh, the CLI's the whole process (start, weights, generation, GLB
-// written), and both report their stage times. MESHFLOW names the CLI (default
+// written), and both report their stage times; a third process per round runs the CLI on one
+// thread (RAYON_NUM_THREADS=1), which parts the page's single thread from wasm's own cost.
+// MESHFLOW names the CLI (default
 // $CARGO_TARGET_DIR/release/meshflow); CHROMIUM the browser (default /usr/bin/chromium).
 import { chromium } from 'playwright-core';
 import { execFileSync, execSync } from 'node:child_process';
@@ -61,10 +63,13 @@ async function pageRun(page, navigate) {
   };
 }
 
-function cliRun() {
+function cliRun(env = {}) {
   const out = join(work, 'cli.glb');
   const start = process.hrtime.bigint();
-  const stdout = execFileSync(meshflow, ['generate', input, '-o', out, '--json', '--backend', 'cpu'], { encoding: 'utf8' });
+  const stdout = execFileSync(meshflow, ['generate', input, '-o', out, '--json', '--backend', 'cpu'], {
+    encoding: 'utf8',
+    env: { ...process.env, ...env },
+  });
   const wall = Number(process.hrtime.bigint() - start) / 1e9;
   const r = JSON.parse(stdout.trim().split('\n').pop());
   return {
@@ -87,11 +92,16 @@ const cold = await pageRun(page, () => page.goto(url));
 const warmVisit = await pageRun(page, () => page.reload());
 const pageRuns = [];
 const cliRuns = [];
+const oneThreadRuns = [];
 for (let i = 0; i < rounds; i++) {
   pageRuns.push(await pageRun(page, null));
   cliRuns.push(cliRun());
-  const p = pageRuns.at(-1), c = cliRuns.at(-1);
-  console.log(`round ${i + 1}: page ${p.generate_s.toFixed(2)} s (${p.faces} faces), CLI ${c.process_s.toFixed(2)} s (${c.faces} faces)`);
+  oneThreadRuns.push(cliRun({ RAYON_NUM_THREADS: '1' }));
+  const p = pageRuns.at(-1), c = cliRuns.at(-1), o = oneThreadRuns.at(-1);
+  console.log(
+    `round ${i + 1}: page ${p.generate_s.toFixed(2)} s (${p.faces} faces), CLI ${c.process_s.toFixed(2)} s (${c.faces} faces), ` +
+      `CLI on one thread ${o.process_s.toFixed(2)} s`,
+  );
 }
 await context.close();
 server.close();
@@ -105,6 +115,7 @@ const stageTable = STAGES.map((k) => ({
   stage: k.replace(/_s$/, ''),
   page_s: median(pageRuns.map((r) => r.stages_s[k])),
   cli_s: median(cliRuns.map((r) => r.stages_s[k])),
+  cli_one_thread_s: median(oneThreadRuns.map((r) => r.stages_s[k])),
 }));
 const cpuWasm = join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm');
 const result = {
@@ -117,13 +128,20 @@ const result = {
   first_visit: { empty_cache: cold, warm_cache: warmVisit },
   page_generate_s: pageMedian,
   cli_process_s: cliMedian,
+  cli_one_thread_process_s: median(oneThreadRuns.map((r) => r.process_s)),
   ratio: pageMedian / cliMedian,
   stages: stageTable,
   page: pageRuns,
   cli: cliRuns,
+  cli_one_thread: oneThreadRuns,
 };
 writeFileSync(outFile, `${JSON.stringify(result, null, 2)}\n`);
 console.log(`first mesh from navigation: empty cache ${cold.time_to_first_mesh_s.toFixed(2)} s, warm ${warmVisit.time_to_first_mesh_s.toFixed(2)} s`);
 console.log(`page ${pageMedian.toFixed(2)} s against the CLI's ${cliMedian.toFixed(2)} s: ${(pageMedian / cliMedian).toFixed(2)}x`);
-for (const s of stageTable) console.log(`  ${s.stage.padEnd(10)} page ${s.page_s.toFixed(3)} s  CLI ${s.cli_s.toFixed(3)} s  ${(s.page_s / s.cli_s).toFixed(1)}x`);
+for (const s of stageTable) {
+  console.log(
+    `  ${s.stage.padEnd(10)} page ${s.page_s.toFixed(3)} s  CLI ${s.cli_s.toFixed(3)} s (${(s.page_s / s.cli_s).toFixed(1)}x)  ` +
+      `CLI one thread ${s.cli_one_thread_s.toFixed(3)} s (${(s.page_s / s.cli_one_thread_s).toFixed(1)}x)`,
+  );
+}
 console.log(`written to ${outFile}`);
