@@ -84,3 +84,17 @@ proptest! {
         }
     }
 }
+
+/// A case the property test found (2026-12-02): on a jittered sheet with a sphere's points and
+/// far outliers, a round's snaps gave three faces no area; such a round is not kept.
+#[test]
+fn sharpening_never_keeps_a_round_with_faces_of_no_area() {
+    let (kind, closed, jitter, seed) = (3, false, 0.220_443_25, 5_543_999_906_023_879_781);
+    let mut m = mesh(closed, jitter, seed);
+    let planes = PointPlanes::new(&points(kind, seed), 12);
+    sharpen(&mut m, &planes, &SharpenOptions::default());
+    let t = TopologyReport::of(&m);
+    assert_eq!(t.degenerate_faces, 0);
+    assert_eq!(t.non_manifold_edges, 0);
+    assert!(m.validate().is_ok());
+}

@@ -49,7 +49,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
-use crate::geometry::topology::edges;
+use crate::geometry::topology::{DEGENERATE_TOLERANCE, edges, is_degenerate};
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 use crate::surface::complete::point_spacing;
@@ -502,9 +502,13 @@ pub fn sharpen_judged(
         }
         out
     };
+    // A round whose snaps collapsed a face to no area is never kept (several vertices can
+    // snap onto one corner): the mesh must stay as clean as it came.
+    let degenerate_in = degenerate_faces(mesh);
     let Some((round, judged)) = rounds.iter().enumerate().rev().find_map(|(r, (p, f, _))| {
         let candidate = as_mesh(p, f);
-        acceptable(&candidate).then_some((r + 1, candidate))
+        (degenerate_faces(&candidate) <= degenerate_in && acceptable(&candidate))
+            .then_some((r + 1, candidate))
     }) else {
         report.accepted = false;
         report.faces_out = mesh.faces.len();
@@ -534,6 +538,14 @@ pub fn sharpen_judged(
     *mesh = judged;
     report.faces_out = mesh.faces.len();
     report
+}
+
+/// Faces without area, as [`crate::geometry::topology::TopologyReport`] counts them.
+fn degenerate_faces(mesh: &Mesh) -> usize {
+    let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
+    (mesh.faces.iter())
+        .filter(|&&f| is_degenerate(&mesh.positions, f, scale, DEGENERATE_TOLERANCE))
+        .count()
 }
 
 /// Median edge length of the live faces.
