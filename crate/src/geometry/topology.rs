@@ -322,6 +322,15 @@ pub fn is_degenerate(positions: &[Vec3], face: [u32; 3], scale: f32, tolerance: 
     (q - p).cross(r - p).length() <= tolerance * scale * scale
 }
 
+/// How many faces of `mesh` are degenerate ([`is_degenerate`] at [`DEGENERATE_TOLERANCE`] of
+/// its longest bounding-box side), as [`TopologyReport::degenerate_faces`] counts them.
+pub fn degenerate_faces(mesh: &Mesh) -> usize {
+    let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
+    (mesh.faces.iter())
+        .filter(|&&f| is_degenerate(&mesh.positions, f, scale, DEGENERATE_TOLERANCE))
+        .count()
+}
+
 /// The topology figures docs/design.md section 3 asks for, for any mesh.
 #[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 pub struct TopologyReport {
@@ -363,10 +372,7 @@ impl TopologyReport {
             }
         }
         report.holes = edge_loops(&inc.boundary_edges()).len();
-        let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
-        report.degenerate_faces = (mesh.faces.iter())
-            .filter(|&&f| is_degenerate(&mesh.positions, f, scale, DEGENERATE_TOLERANCE))
-            .count();
+        report.degenerate_faces = degenerate_faces(mesh);
         let (labels, count) = components(mesh.positions.len(), &mesh.faces);
         report.components = count;
         report.isolated_vertices = labels.iter().filter(|&&l| l == u32::MAX).count();

@@ -49,7 +49,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
-use crate::geometry::topology::{DEGENERATE_TOLERANCE, edges, is_degenerate};
+use crate::geometry::topology::{degenerate_faces, edges};
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 use crate::surface::complete::point_spacing;
@@ -268,7 +268,7 @@ impl PointPlanes {
 
     /// How well surface `normals` at `samples` agree with the input's planes: the mean
     /// absolute cosine between each sample's normal and the plane normal that stands for the
-    /// input nearest it (as [`Self::nearest_plane`] picks), over samples with one; `None`
+    /// input nearest it (the plane `nearest_plane` picks), over samples with one; `None`
     /// where none has. Normal consistency against the input, with no ground truth.
     pub fn normal_agreement(&self, samples: &[Vec3], normals: &[Vec3]) -> Option<f64> {
         let (mut sum, mut count) = (0.0f64, 0usize);
@@ -538,14 +538,6 @@ pub fn sharpen_judged(
     *mesh = judged;
     report.faces_out = mesh.faces.len();
     report
-}
-
-/// Faces without area, as [`crate::geometry::topology::TopologyReport`] counts them.
-fn degenerate_faces(mesh: &Mesh) -> usize {
-    let scale = mesh.aabb().map_or(1.0, |b| b.max_extent());
-    (mesh.faces.iter())
-        .filter(|&&f| is_degenerate(&mesh.positions, f, scale, DEGENERATE_TOLERANCE))
-        .count()
 }
 
 /// Median edge length of the live faces.
