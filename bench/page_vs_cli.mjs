@@ -11,7 +11,10 @@
 // budget from the shape, 12 candidates of 4 midpoint steps, seed 0, sharpened): the page's
 // figure is click to mesh, the CLI's the whole process (start, weights, generation, GLB
 // written), and both report their stage times; a third process per round runs the CLI on one
-// thread (RAYON_NUM_THREADS=1), which parts the page's single thread from wasm's own cost.
+// thread (RAYON_NUM_THREADS=1), which parts the page's threads from wasm's own cost. The page
+// runs twice a round: at its default (the candidates drawn on one wasm module per core,
+// web/lib/candidates.js) and with `?workers=1` (every candidate on one module, as before
+// 2026-12-02), in a second tab of the same browser; both must make the same mesh.
 // MESHFLOW names the CLI (default
 // $CARGO_TARGET_DIR/release/meshflow); CHROMIUM the browser (default /usr/bin/chromium).
 import { chromium } from 'playwright-core';
@@ -90,17 +93,23 @@ const context = await chromium.launchPersistentContext(profile, {
 const page = context.pages()[0] ?? (await context.newPage());
 const cold = await pageRun(page, () => page.goto(url));
 const warmVisit = await pageRun(page, () => page.reload());
+const single = await context.newPage();
+await pageRun(single, () => single.goto(`${url}&workers=1`));
+const workers = Number(await page.evaluate(() => document.body.dataset.workers));
+const singleRuns = [];
 const pageRuns = [];
 const cliRuns = [];
 const oneThreadRuns = [];
 for (let i = 0; i < rounds; i++) {
   pageRuns.push(await pageRun(page, null));
+  singleRuns.push(await pageRun(single, null));
   cliRuns.push(cliRun());
   oneThreadRuns.push(cliRun({ RAYON_NUM_THREADS: '1' }));
-  const p = pageRuns.at(-1), c = cliRuns.at(-1), o = oneThreadRuns.at(-1);
+  const p = pageRuns.at(-1), s1 = singleRuns.at(-1), c = cliRuns.at(-1), o = oneThreadRuns.at(-1);
+  if (p.faces !== s1.faces || p.vertices !== s1.vertices) throw new Error(`${workers} workers and one module differ: ${p.faces} / ${s1.faces} faces`);
   console.log(
-    `round ${i + 1}: page ${p.generate_s.toFixed(2)} s (${p.faces} faces), CLI ${c.process_s.toFixed(2)} s (${c.faces} faces), ` +
-      `CLI on one thread ${o.process_s.toFixed(2)} s`,
+    `round ${i + 1}: page ${p.generate_s.toFixed(2)} s on ${workers} workers (${p.faces} faces), page on one module ` +
+      `${s1.generate_s.toFixed(2)} s, CLI ${c.process_s.toFixed(2)} s (${c.faces} faces), CLI on one thread ${o.process_s.toFixed(2)} s`,
   );
 }
 await context.close();
@@ -110,10 +119,12 @@ rmSync(work, { recursive: true, force: true });
 
 const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 const pageMedian = median(pageRuns.map((r) => r.generate_s));
+const singleMedian = median(singleRuns.map((r) => r.generate_s));
 const cliMedian = median(cliRuns.map((r) => r.process_s));
 const stageTable = STAGES.map((k) => ({
   stage: k.replace(/_s$/, ''),
   page_s: median(pageRuns.map((r) => r.stages_s[k])),
+  page_one_module_s: median(singleRuns.map((r) => r.stages_s[k])),
   cli_s: median(cliRuns.map((r) => r.stages_s[k])),
   cli_one_thread_s: median(oneThreadRuns.map((r) => r.stages_s[k])),
 }));
@@ -121,26 +132,30 @@ const cpuWasm = join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm');
 const result = {
   method:
     `node bench/page_vs_cli.mjs --rounds ${rounds}: headless ${execSync(`${process.env.CHROMIUM ?? '/usr/bin/chromium'} --version`).toString().trim()}, ` +
-    `the page's CPU path (one thread) and \`meshflow generate --backend cpu\` alternating on ${input.slice(ROOT.length + 1)} at the defaults; medians`,
+    `the page's CPU path (its candidates on ${workers} workers, and on one module with ?workers=1) and \`meshflow generate --backend cpu\` alternating on ${input.slice(ROOT.length + 1)} at the defaults; medians`,
   machine: `${cpus()[0].model}, ${cpus().length} threads`,
   commit: execSync('git rev-parse --short HEAD', { cwd: ROOT }).toString().trim(),
   cpu_wasm_bytes: readFileSync(cpuWasm).length,
   first_visit: { empty_cache: cold, warm_cache: warmVisit },
+  page_workers: workers,
   page_generate_s: pageMedian,
+  page_one_module_generate_s: singleMedian,
   cli_process_s: cliMedian,
   cli_one_thread_process_s: median(oneThreadRuns.map((r) => r.process_s)),
   ratio: pageMedian / cliMedian,
   stages: stageTable,
   page: pageRuns,
+  page_one_module: singleRuns,
   cli: cliRuns,
   cli_one_thread: oneThreadRuns,
 };
 writeFileSync(outFile, `${JSON.stringify(result, null, 2)}\n`);
 console.log(`first mesh from navigation: empty cache ${cold.time_to_first_mesh_s.toFixed(2)} s, warm ${warmVisit.time_to_first_mesh_s.toFixed(2)} s`);
-console.log(`page ${pageMedian.toFixed(2)} s against the CLI's ${cliMedian.toFixed(2)} s: ${(pageMedian / cliMedian).toFixed(2)}x`);
+console.log(`page ${pageMedian.toFixed(2)} s on ${workers} workers against the CLI's ${cliMedian.toFixed(2)} s: ${(pageMedian / cliMedian).toFixed(2)}x` +
+  ` (one module ${singleMedian.toFixed(2)} s: ${(singleMedian / cliMedian).toFixed(2)}x)`);
 for (const s of stageTable) {
   console.log(
-    `  ${s.stage.padEnd(10)} page ${s.page_s.toFixed(3)} s  CLI ${s.cli_s.toFixed(3)} s (${(s.page_s / s.cli_s).toFixed(1)}x)  ` +
+    `  ${s.stage.padEnd(10)} page ${s.page_s.toFixed(3)} s  one module ${s.page_one_module_s.toFixed(3)} s  CLI ${s.cli_s.toFixed(3)} s (${(s.page_s / s.cli_s).toFixed(1)}x)  ` +
       `CLI one thread ${s.cli_one_thread_s.toFixed(3)} s (${(s.page_s / s.cli_one_thread_s).toFixed(1)}x)`,
   );
 }

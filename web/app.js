@@ -107,7 +107,9 @@ let backend = null;
 function startWorker(asked) {
   worker = new Worker(new URL('./worker.js', import.meta.url), { type: 'module' });
   worker.onmessage = onWorkerMessage;
-  worker.postMessage({ type: 'load', backend: asked });
+  // `?workers=N`: how many wasm modules draw the candidates on the CPU path (default: one per core).
+  const workers = Number(params.get('workers')) || undefined;
+  worker.postMessage({ type: 'load', backend: asked, workers });
 }
 
 // The GPU device was lost (a reset, a driver crash) or failed mid-generation: a fresh worker
@@ -123,6 +125,12 @@ function fallBackToCpu(message) {
   viewer = null;
   $('backend').textContent = 'Switching to the CPU…';
   startWorker('cpu');
+}
+
+// How many wasm modules draw the candidates, and why (for the user and the tests).
+function showWorkers({ workers, workersReason }) {
+  document.body.dataset.workers = String(workers);
+  document.body.dataset.workersReason = workersReason;
 }
 
 function onWorkerMessage({ data }) {
@@ -148,8 +156,9 @@ function onWorkerMessage({ data }) {
       document.body.dataset.wasmModule = data.module;
       document.body.dataset.weightsFromCache = String(data.fromCache);
       document.body.dataset.backendReason = fallbackReason ?? data.reason;
+      showWorkers(data);
       $('backend').textContent =
-        (data.backend === 'webgpu' ? 'Running on your GPU (WebGPU)' : 'Running on the CPU inside WebAssembly') +
+        (data.backend === 'webgpu' ? 'Running on your GPU (WebGPU)' : `Running on the CPU inside WebAssembly, ${data.workersReason}`) +
         (fallbackReason ? `: ${fallbackReason}.` : data.asked === 'auto' ? `: ${data.reason}.` : ' (chosen in the Backend menu).');
       if (!fallbackReason) $('backend-choice').value = data.asked;
       $('vertices').max = data.maxVertices;
@@ -182,6 +191,11 @@ function onWorkerMessage({ data }) {
       scene.mesh = { positions: data.positions, indices: data.indices };
       viewer?.setMesh(data.positions, data.indices);
       showStats(data.report);
+      // A candidate worker that died was dropped: say so where the backend is shown.
+      if (data.workersReason !== document.body.dataset.workersReason) {
+        showWorkers(data);
+        $('backend').textContent = `Running on the CPU inside WebAssembly, ${data.workersReason}.`;
+      }
       // For scripts driving the page (bench/browser.mjs).
       window.__meshflowReport = data.report;
       $('downloads').hidden = false;

@@ -17,12 +17,16 @@ self.onmessage = async ({ data }) => {
         // The shipped weights (f16), the files the CLI runs.
         weights: new URL('../weights/', self.location.href),
         backend: data.backend ?? 'auto',
+        // For tests and the curious: `?workers=1` draws every candidate in this worker.
+        ...(data.workers ? { workers: data.workers } : {}),
         onProgress: (got, total) => post({ type: 'weights', got, total }),
       });
       post({
         type: 'ready',
         backend: model.backend,
         reason: model.backendReport.reason,
+        workers: model.backendReport.workers,
+        workersReason: model.backendReport.workersReason,
         asked: model.backendReport.asked,
         fromCache: model.weightsFromCache,
         maxVertices: model.maxVertices,
@@ -54,7 +58,10 @@ self.onmessage = async ({ data }) => {
       viewer?.setMesh(scene.mesh.positions, scene.mesh.indices);
       const glb = mesh.toGlb();
       post(
-        { type: 'done', positions: mesh.positions, normals: mesh.normals, indices: mesh.indices, report: mesh.report, glb, obj: mesh.toObj() },
+        {
+          type: 'done', positions: mesh.positions, normals: mesh.normals, indices: mesh.indices, report: mesh.report, glb, obj: mesh.toObj(),
+          workers: model.backendReport.workers, workersReason: model.backendReport.workersReason,
+        },
         [mesh.positions.buffer, mesh.normals.buffer, mesh.indices.buffer, glb.buffer],
       );
     } else if (data.type === 'viewer') {

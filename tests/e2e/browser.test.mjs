@@ -312,6 +312,13 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
   assert((await p.evaluate(() => document.body.dataset.backend)) === 'cpu', 'not cpu');
   assert((await p.textContent('#backend')).includes('CPU'), 'fallback not announced');
+  // One wasm module per core draws the candidates (web/lib/candidates.js), and the page says so.
+  const cores = await p.evaluate(() => navigator.hardwareConcurrency);
+  const workers = Number(await p.evaluate(() => document.body.dataset.workers));
+  assert(workers === Math.min(cores, 4), `${workers} workers on ${cores} cores`);
+  if (workers > 1) {
+    assert((await p.textContent('#backend')).includes(`candidates drawn on ${workers} workers`), 'the workers are not announced');
+  }
   // No GPU device to share: the same wgpu viewer draws on a WebGL2 context of its own.
   await p.waitForFunction(() => document.body.dataset.viewerApi);
   assert((await p.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'the CPU path is not drawn by the wgpu viewer');
@@ -601,6 +608,20 @@ await check('the npm package imports and generates the way a user would', async 
                inconsistent: sharp.report.topology.inconsistent_winding_edges, holes: sharp.report.topology.holes,
                refined: sharp.report.sharpen.refined_faces, badSharpen },
              byFaces: { budget: byFaces.report.vertexBudget, faces: byFaces.indices.length / 3 } };
+           // The same mesh from one module as from the workers (the default on this machine).
+           const single = await loadModel({ backend, workers: 1 });
+           window.__workers = { workers: model.workers, reason: model.backendReport.workersReason, single: single.workers,
+             singleReason: single.backendReport.workersReason,
+             same: {} };
+           for (const sharpen of [false, true]) {
+             const a = await model.generate(points, { sharpen });
+             const b = await single.generate(points, { sharpen });
+             window.__workers.same[sharpen ? 'sharpened' : 'unsharpened'] = a.indices.length === b.indices.length &&
+               a.indices.every((v, i) => v === b.indices[i]) && a.positions.every((v, i) => v === b.positions[i]);
+           }
+           let badWorkers = '';
+           try { await loadModel({ backend, workers: 0 }); } catch (e) { badWorkers = e.message; }
+           window.__workers.badWorkers = badWorkers;
            window.__defaults = {};
            for (const name of ${JSON.stringify(DEFAULT_PATH_INPUTS.map((f) => basename(f)))}) {
              const input = new Uint8Array(await (await fetch(name)).arrayBuffer());
@@ -650,7 +671,17 @@ await check('the npm package imports and generates the way a user would', async 
   const optionChecks = await p.evaluate(() => window.__options);
   const modules = await p.evaluate(() => window.__modules);
   wasmDefaults = await p.evaluate(() => window.__defaults);
+  const w = await p.evaluate(() => window.__workers);
+  const cores = await p.evaluate(() => navigator.hardwareConcurrency);
   await b.close();
+  // The CPU path draws its candidates on one module per core (at most 4); one module alone
+  // makes the same mesh, sharpened or not.
+  assert(w.workers === Math.min(cores, 4) && w.single === 1, `workers: ${JSON.stringify(w)}`);
+  assert(w.workers === 1 || /candidates drawn on \d workers side by side/.test(w.reason), `workers: ${JSON.stringify(w)}`);
+  assert(/one module draws every candidate \(workers: 1\)/.test(w.singleReason), `workers: 1: ${JSON.stringify(w)}`);
+  assert(w.same.unsharpened && w.same.sharpened, `${w.workers} workers and one module made different meshes: ${JSON.stringify(w.same)}`);
+  assert(/workers must be an integer from 1 to 4/.test(w.badWorkers), `workers: 0 was not refused: ${w.badWorkers}`);
+  console.log(`  ${w.workers} workers and one module: the same mesh at the defaults, sharpened and not`);
   appServer.close();
   wasmMeshes = Object.fromEntries(Object.entries(glbs).map(([k, v]) => [k, glbMesh(Uint8Array.from(v))]));
   assert(wasmMeshes.webgpu.indices.length > 0, 'the WebGPU mesh has no faces');

@@ -144,6 +144,10 @@ export interface BackendReport {
   asked: 'auto' | 'webgpu' | 'cpu';
   reason: string;
   adapter: BackendChoice['adapter'];
+  /** Modules drawing a generation's candidates side by side (1 on WebGPU). */
+  workers: number;
+  /** A sentence for the user, e.g. "candidates drawn on 2 workers side by side", or why fewer workers run than asked. */
+  workersReason: string;
 }
 
 export class Model {
@@ -151,7 +155,11 @@ export class Model {
   /** Which backend runs and why. */
   readonly backendReport: BackendReport;
   readonly maxVertices: number;
+  /** Modules drawing a generation's candidates side by side: 1, or 1 + the helper workers on the CPU path. */
+  readonly workers: number;
   weightsFromCache: boolean;
+  /** Stops the helper workers; the model still generates, in its own module alone. */
+  terminate(): void;
   generate(points: Float32Array, options?: GenerateOptions): Promise<GeneratedMesh>;
   /** Destroys the WebGPU device as a GPU reset would (for testing fallbacks). */
   destroyDevice(): void;
@@ -182,6 +190,13 @@ export interface LoadOptions {
    * meshflow_bg.wasm (WebGPU alone).
    */
   wasmUrls?: { cpu?: string | URL; webgpu?: string | URL };
+  /**
+   * On the CPU path: wasm modules drawing a generation's candidates side by side, 1 to 4
+   * (default: one per core the browser reports, at most 4). Each beyond the first is a worker
+   * with its own copy of the models (about 60 MB); the mesh is the same for any number. A
+   * worker that fails to start or dies is dropped, `backendReport.workersReason` says so.
+   */
+  workers?: number;
 }
 
 /**

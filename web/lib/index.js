@@ -12,6 +12,8 @@
 // (WebGPU alone). Only the one the chosen backend needs is downloaded; the CPU one also where
 // WebGPU fails to start.
 
+import { MAX_HELPERS, generateSideBySide, startHelpers } from './candidates.js';
+
 const FILES = ['vae.manifest.json', 'vae.safetensors', 'dit.manifest.json', 'dit.safetensors'];
 const CACHE = 'meshflow-weights-v1';
 
@@ -215,10 +217,22 @@ export class GeneratedMesh {
 
 /** Loaded models on a device. */
 export class Model {
-  constructor(inner) {
+  constructor(inner, helpers = []) {
     this.#inner = inner;
+    this.#helpers = helpers;
   }
   #inner;
+  // Helper workers drawing candidates beside this module (web/lib/candidates.js).
+  #helpers;
+  /** Modules drawing a generation's candidates side by side: 1, or 1 + the helper workers. */
+  get workers() {
+    return 1 + this.#helpers.length;
+  }
+  /** Stops the helper workers (the model still generates, in this module alone). */
+  terminate() {
+    this.#helpers.forEach((h) => h.terminate());
+    this.#helpers = [];
+  }
   /** `'webgpu'` or `'cpu'`. */
   get backend() {
     return this.#inner.backend;
@@ -261,8 +275,9 @@ export class Model {
    * closed by a patch that does not fold; with `fit` only), `sharpen` (default true: the kept
    * mesh made flat where the points are flat and creased where they crease, flat regions
    * merged into few faces; with the default extraction only), `samples` (default 12: candidates
-   * drawn from different noise in one batch, the one kept lying closest to the points with
-   * each hole counting against it; 1 to 16, each costs a generation), `onStep(step, steps)`,
+   * drawn from different noise, in one batch or, on the CPU, in runs on the model's
+   * [`workers`] side by side, the one kept lying closest to the points with each hole
+   * counting against it; the same mesh either way; 1 to 16, each costs a generation), `onStep(step, steps)`,
    * `signal` (an AbortSignal: aborting cancels between steps and rejects).
    */
   async generate(points, { vertices, faces, steps, solver, seed, samples, extraction, dropNonManifold, fit = true, closeHoles = true, sharpen = true, onStep, signal } = {}) {
@@ -303,11 +318,23 @@ export class Model {
       ...(closeHoles ? {} : { close: { enabled: false } }),
       ...(sharpen ? {} : { sharpen: { enabled: false } }),
     });
-    const inner = await this.#inner.generate(points, options, (i, n) => {
+    const step = (i, n) => {
       onStep?.(i, n);
       return !signal?.aborted;
-    });
-    return new GeneratedMesh(inner);
+    };
+    const candidates = samples ?? this.#inner.defaultSamples;
+    if (this.#helpers.length === 0 || candidates === 1) {
+      return new GeneratedMesh(await this.#inner.generate(points, options, step));
+    }
+    const lost = (helper, e) => {
+      this.#helpers = this.#helpers.filter((h) => h !== helper);
+      helper.terminate();
+      this.backendReport.workers = this.workers;
+      this.backendReport.workersReason = `a candidate worker failed (${e?.message ?? e}); ${describeWorkers(this.workers)}`;
+    };
+    return new GeneratedMesh(
+      await generateSideBySide(this.#inner, this.#helpers, points, options, candidates, step, signal, lost),
+    );
   }
 }
 
@@ -315,8 +342,10 @@ export class Model {
  * Loads the shipped models. `weights`: the folder URL holding vae.* and dit.* (default: the
  * package's `weights/`, the f16 files the CLI runs too, so the same input, options and seed give
  * the same mesh); `backend`: `'auto'` (the faster one here, see [`chooseBackend`]),
- * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download. The model's
- * `backendReport` says which backend runs and why.
+ * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download; `workers`: on the CPU path, how
+ * many wasm modules draw a generation's candidates side by side (default: one per core, at
+ * most 4; each beyond the first is a worker with its own copy of the models, about 60 MB). The
+ * model's `backendReport` says which backend runs and why, and on how many workers.
  */
 export async function loadModel({
   weights = new URL('../../weights/', import.meta.url),
@@ -324,9 +353,13 @@ export async function loadModel({
   onProgress,
   useCache = true,
   wasmUrls = {},
+  workers = defaultWorkers(),
 } = {}) {
   if (!['auto', 'webgpu', 'cpu'].includes(backend)) {
     throw new TypeError(`backend must be 'auto', 'webgpu' or 'cpu', got ${JSON.stringify(backend)}`);
+  }
+  if (!(Number.isInteger(workers) && workers >= 1 && workers <= 1 + MAX_HELPERS)) {
+    throw new TypeError(`workers must be an integer from 1 to ${1 + MAX_HELPERS}, got ${JSON.stringify(workers)}`);
   }
   const choice = backend === 'auto' ? await chooseBackend() : { backend, reason: `asked for ${backend}`, adapter: null };
   const [{ glue }, { files, fromCache }] = await Promise.all([
@@ -336,6 +369,10 @@ export async function loadModel({
   const text = new TextDecoder();
   const load = (module, which) =>
     module.MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
+  // The CPU path draws candidates on helper workers too (one GPU serves a WebGPU model); they
+  // load their copies while this module loads its own.
+  const helpersFor = () => startHelpers(workers - 1, files, wasmUrls.cpu);
+  let starting = choice.backend === 'cpu' ? helpersFor() : null;
   try {
     let inner;
     let { reason } = choice;
@@ -349,16 +386,41 @@ export async function loadModel({
       const cpu = await initWasm('cpu', wasmUrls.cpu);
       inner = await load(cpu.glue, 'cpu');
       reason = `WebGPU failed to start (${e?.message ?? e})`;
+      starting = helpersFor();
     }
-    const model = new Model(inner);
-    model.backendReport = { asked: backend, reason, adapter: choice.adapter };
+    let helpers = [];
+    let workersReason = 'one module drives the GPU';
+    if (starting) {
+      const started = await starting;
+      helpers = started.helpers;
+      const drawing = describeWorkers(1 + helpers.length);
+      workersReason = workers === 1
+        ? `${drawing} (workers: 1)`
+        : started.failed.length
+          ? `${started.failed.length} of ${workers - 1} candidate workers did not start (${started.failed[0]}); ${drawing}`
+          : drawing;
+    }
+    const model = new Model(inner, helpers);
+    model.backendReport = { asked: backend, reason, adapter: choice.adapter, workers: model.workers, workersReason };
     model.weightsFromCache = fromCache;
     return model;
   } catch (e) {
+    starting?.then(({ helpers }) => helpers.forEach((h) => h.terminate()));
     // A stale or damaged cache entry fails the checksum: drop it so the next load refetches.
     if (fromCache) await clearWeightsCache();
     throw e;
   }
+}
+
+/** Modules to draw candidates on by default: one per core the browser reports, at most 1 + MAX_HELPERS. */
+function defaultWorkers() {
+  const cores = Number(globalThis.navigator?.hardwareConcurrency) || 1;
+  return Math.max(1, Math.min(cores, 1 + MAX_HELPERS));
+}
+
+/** What the backend report says of `n` modules drawing candidates. */
+function describeWorkers(n) {
+  return n === 1 ? 'one module draws every candidate' : `candidates drawn on ${n} workers side by side`;
 }
 
 /**

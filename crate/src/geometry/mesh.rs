@@ -7,7 +7,7 @@ use glam::Vec3;
 /// Invariants the constructors in this crate keep (and [`Mesh::validate`] checks):
 /// every face index is `< positions.len()`, `normals` is empty or one per position, and all
 /// coordinates are finite.
-#[derive(Clone, Debug, Default, PartialEq)]
+#[derive(Clone, Debug, Default, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Mesh {
     pub positions: Vec<Vec3>,
     /// Per-vertex unit normals, or empty when the source had none.

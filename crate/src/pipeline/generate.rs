@@ -185,7 +185,7 @@ pub struct StageTimes {
 }
 
 /// One generated mesh, in the input's frame.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Generated {
     pub mesh: Mesh,
     pub vertex_budget: usize,

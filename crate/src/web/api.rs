@@ -9,7 +9,10 @@
 //!
 //! Generation drives the same stages as the CLI ([`crate::pipeline::generate::Generator`]) but reads
 //! back asynchronously, and waits for the GPU after every Euler step, so the page can show
-//! real progress and cancel between steps.
+//! real progress and cancel between steps. On the CPU, several workers (each its own module)
+//! can draw runs of the candidates side by side ([`MeshFlow::generate_candidates`]) and one
+//! keeps the best ([`MeshFlow::keep_candidates`]): wasm has no threads without cross-origin
+//! isolation, and the candidates need no shared memory.
 
 /// Burn's WebGPU instance, adapter, device and queue, shared with the viewer; nothing in the
 /// CPU-only module.
@@ -27,8 +30,8 @@ use crate::model::sampler::step;
 use crate::model::schedule::step_times;
 use crate::model::{add_pair_corrections, spacetime_distances};
 use crate::pipeline::generate::{
-    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    keep_sharpened, kept_slots, read_bits,
+    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, check_samples,
+    input_points, keep_sharpened, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(any(feature = "wgpu", feature = "webgl"))]
@@ -192,6 +195,12 @@ impl MeshFlow {
         self.models.vae_manifest.model.num_vertices
     }
 
+    /// Candidates drawn when the options do not say how many ([`GenerateOptions::samples`]).
+    #[wasm_bindgen(getter, js_name = defaultSamples)]
+    pub fn default_samples(&self) -> usize {
+        GenerateOptions::default().samples
+    }
+
     fn generator(&self) -> Generator<'_> {
         self.models.generator(&self.device)
     }
@@ -207,22 +216,98 @@ impl MeshFlow {
         options: String,
         on_step: Option<js_sys::Function>,
     ) -> Result<GeneratedMesh, JsError> {
-        if !points.len().is_multiple_of(3) {
+        let points = xyz(&points)?;
+        let opts = parse_options(&options)?;
+        let candidates = self
+            .candidates(&points, &opts, 0, opts.samples, on_step)
+            .await?;
+        Ok(GeneratedMesh {
+            generated: keep_sharpened(candidates, &points, &opts),
+            samples: opts.samples,
+        })
+    }
+
+    /// Candidates `first..first + count` of [`Self::generate`]'s `options.samples` for
+    /// `points`, unsharpened, as bytes for [`Self::keep_candidates`]: several workers, each
+    /// with its own module, draw runs of them side by side. Candidate `j` is seeded by
+    /// `seed + j` in whichever run it is drawn, and a batch's rows do not depend on each other
+    /// (crate/tests/candidate_split.rs), so the runs together are the candidates that
+    /// [`Self::generate`] draws at once.
+    #[wasm_bindgen(js_name = generateCandidates)]
+    pub async fn generate_candidates(
+        &self,
+        points: Vec<f32>,
+        options: String,
+        first: usize,
+        count: usize,
+        on_step: Option<js_sys::Function>,
+    ) -> Result<Vec<u8>, JsError> {
+        let points = xyz(&points)?;
+        let opts = parse_options(&options)?;
+        check_samples(opts.samples).map_err(js_error)?;
+        if count == 0 || first + count > opts.samples {
             return Err(js_error(format!(
-                "points must be x, y, z triples; got {} numbers",
-                points.len()
+                "candidates {first}..{} are not among the {} asked for",
+                first + count,
+                opts.samples
             )));
         }
-        let opts: GenerateOptions = if options.trim().is_empty() {
-            GenerateOptions::default()
-        } else {
-            serde_json::from_str(&options).map_err(|e| js_error(format!("options: {e}")))?
+        let candidates = self
+            .candidates(&points, &opts, first, count, on_step)
+            .await?;
+        postcard::to_allocvec(&candidates).map_err(js_error)
+    }
+
+    /// The mesh [`Self::generate`] makes, from its candidates drawn in runs by
+    /// [`Self::generate_candidates`] (`parts`: their bytes in the order of `first`, together
+    /// all `options.samples` of them): the one kept, sharpened.
+    #[wasm_bindgen(js_name = keepCandidates)]
+    pub fn keep_candidates(
+        &self,
+        points: Vec<f32>,
+        options: String,
+        parts: Vec<js_sys::Uint8Array>,
+    ) -> Result<GeneratedMesh, JsError> {
+        let points = xyz(&points)?;
+        let opts = parse_options(&options)?;
+        check_samples(opts.samples).map_err(js_error)?;
+        let mut candidates: Vec<Generated> = Vec::with_capacity(opts.samples);
+        for part in parts {
+            let run: Vec<Generated> = postcard::from_bytes(&part.to_vec())
+                .map_err(|e| js_error(format!("not the bytes of generateCandidates: {e}")))?;
+            candidates.extend(run);
+        }
+        if candidates.len() != opts.samples {
+            return Err(js_error(format!(
+                "{} candidates were given where {} were asked for",
+                candidates.len(),
+                opts.samples
+            )));
+        }
+        Ok(GeneratedMesh {
+            generated: keep_sharpened(candidates, &points, &opts),
+            samples: opts.samples,
+        })
+    }
+
+    /// Candidates `first..first + count` of `opts.samples`, one batch row each, seeded by
+    /// `opts.seed + first + row`: stages 1 to 5 with asynchronous readback.
+    async fn candidates(
+        &self,
+        points: &[Vec3],
+        opts: &GenerateOptions,
+        first: usize,
+        count: usize,
+        on_step: Option<js_sys::Function>,
+    ) -> Result<Vec<Generated>, JsError> {
+        let opts = &GenerateOptions {
+            seed: opts.seed + first as u64,
+            samples: count,
+            ..opts.clone()
         };
-        let points: Vec<Vec3> = points.chunks_exact(3).map(Vec3::from_slice).collect();
         let generator = self.generator();
-        // One batch row per candidate (`samples`); `keep_sharpened` keeps one after extraction.
-        let candidates = vec![points.clone(); opts.samples];
-        let mut prepared = generator.prepare(&candidates, &opts).map_err(js_error)?;
+        let rows = vec![points.to_vec(); count];
+        let mut prepared = generator.prepare(&rows, opts).map_err(js_error)?;
 
         let started = Instant::now();
         let times = step_times(opts.steps, opts.schedule);
@@ -289,14 +374,27 @@ impl MeshFlow {
             edges,
         };
         prepared.times.decode_s = started.elapsed().as_secs_f64();
-        let out = generator
-            .extract(prepared, &host, &opts)
-            .map_err(js_error)?;
-        Ok(GeneratedMesh {
-            generated: keep_sharpened(out, &points, &opts),
-            samples: opts.samples,
-        })
+        generator.extract(prepared, &host, opts).map_err(js_error)
     }
+}
+
+/// `points` as x, y, z triples.
+fn xyz(points: &[f32]) -> Result<Vec<Vec3>, JsError> {
+    if !points.len().is_multiple_of(3) {
+        return Err(js_error(format!(
+            "points must be x, y, z triples; got {} numbers",
+            points.len()
+        )));
+    }
+    Ok(points.chunks_exact(3).map(Vec3::from_slice).collect())
+}
+
+/// [`GenerateOptions`] from JSON (empty: the defaults).
+fn parse_options(options: &str) -> Result<GenerateOptions, JsError> {
+    if options.trim().is_empty() {
+        return Ok(GenerateOptions::default());
+    }
+    serde_json::from_str(options).map_err(|e| js_error(format!("options: {e}")))
 }
 
 async fn read(t: Tensor<3>) -> Result<Vec<f32>, JsError> {
