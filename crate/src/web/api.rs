@@ -221,10 +221,7 @@ impl MeshFlow {
         let candidates = self
             .candidates(&points, &opts, 0, opts.samples, on_step)
             .await?;
-        Ok(GeneratedMesh {
-            generated: keep_sharpened(candidates, &points, &opts),
-            samples: opts.samples,
-        })
+        Ok(GeneratedMesh::kept(candidates, &points, &opts))
     }
 
     /// Candidates `first..first + count` of [`Self::generate`]'s `options.samples` for
@@ -284,10 +281,7 @@ impl MeshFlow {
                 opts.samples
             )));
         }
-        Ok(GeneratedMesh {
-            generated: keep_sharpened(candidates, &points, &opts),
-            samples: opts.samples,
-        })
+        Ok(GeneratedMesh::kept(candidates, &points, &opts))
     }
 
     /// Candidates `first..first + count` of `opts.samples`, one batch row each, seeded by
@@ -429,6 +423,16 @@ pub struct GeneratedMesh {
     generated: Generated,
     /// Candidates drawn; this is the one kept.
     samples: usize,
+}
+
+impl GeneratedMesh {
+    /// The candidate kept from all `opts.samples` of them, sharpened against `points`.
+    fn kept(candidates: Vec<Generated>, points: &[Vec3], opts: &GenerateOptions) -> Self {
+        Self {
+            generated: keep_sharpened(candidates, points, opts),
+            samples: opts.samples,
+        }
+    }
 }
 
 #[wasm_bindgen]
