@@ -24,7 +24,7 @@ class CandidateWorker {
       if (!job) return;
       this.#pending.delete(data.id);
       if (data.type === 'drawn') job.resolve(data.bytes);
-      else job.reject(new Error(data.message));
+      else job.reject(Object.assign(new Error(data.message), { fromModel: true }));
     };
     worker.onerror = (e) => this.#failAll(new Error(`a candidate worker failed: ${e.message ?? 'unknown error'}`));
   }
@@ -115,20 +115,22 @@ export function splitRuns(samples, parts) {
 
 /**
  * The mesh of `inner.generate(points, options, onStep)`, its candidates drawn by `inner` (the
- * first run, reporting `onStep`) and `helpers` (one run each) side by side. A helper that fails
- * is dropped (`onHelperLost(helper, error)`) and its run drawn by `inner`; `signal` cancels
- * them all. Resolves to `inner.keepCandidates`'s mesh.
+ * first run, reporting `onStep`) and `helpers` (one run each) side by side. The model's errors
+ * reject (the first run's first); a helper whose worker dies is dropped (`onHelperLost(helper,
+ * error)`) and its run drawn by `inner`; `signal` cancels them all. Resolves to `inner.keepCandidates`'s mesh.
  */
 export async function generateSideBySide(inner, helpers, points, options, samples, onStep, signal, onHelperLost) {
   const runs = splitRuns(samples, 1 + helpers.length);
   const stop = () => helpers.forEach((h) => h.cancel());
   signal?.addEventListener('abort', stop, { once: true });
-  const cancelled = (e) => signal?.aborted || /cancelled/.test(e?.message ?? '');
+  // The model's own errors (bad input, cancelling) are the generation's; only a worker that
+  // died is dropped and its run drawn here.
+  const ownError = (e) => signal?.aborted || e?.fromModel;
   try {
     const own = inner.generateCandidates(points, options, runs[0].first, runs[0].count, onStep);
     const others = runs.slice(1).map(({ first, count }, k) =>
       helpers[k].draw(points, options, first, count).catch((e) => {
-        if (cancelled(e)) throw e;
+        if (ownError(e)) throw e;
         onHelperLost(helpers[k], e);
         return inner.generateCandidates(points, options, first, count, () => !signal?.aborted);
       }),
