@@ -180,6 +180,10 @@ pub struct SamplingArgs {
     /// input points as the fitted one.
     #[arg(long, default_value_t = SharpenOptions::default().accept_ratio)]
     sharpen_accept: f64,
+    /// Sharpening: sharpen this many candidates, the nearest the input points first, and keep
+    /// the sharpened one nearest them.
+    #[arg(long, default_value_t = SharpenOptions::default().candidates)]
+    sharpen_candidates: usize,
     #[command(flatten)]
     backend: BackendArg,
 }
@@ -238,6 +242,7 @@ impl SamplingArgs {
                 noise_tolerance: self.sharpen_noise_tolerance,
                 passes: self.sharpen_passes,
                 accept_ratio: self.sharpen_accept,
+                candidates: self.sharpen_candidates,
                 ..SharpenOptions::default()
             },
         }

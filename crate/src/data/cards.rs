@@ -37,6 +37,7 @@ use rstar::{AABB, RTree};
 
 use crate::Mesh;
 use crate::geometry::topology::EdgeIncidence;
+use crate::geometry::triangle::point_triangle_distance;
 
 /// Largest angle between the normals of two faces of one flat region, in degrees.
 pub const PLANE_ANGLE_DEG: f64 = 1.0;
@@ -227,44 +228,6 @@ pub fn card_area_share(mesh: &Mesh, max_faces: usize) -> f32 {
     (cards / total).min(1.0) as f32
 }
 
-/// Distance from `x` to the triangle `[a, b, c]` (its closest point, interior, edge or corner;
-/// after Ericson, "Real-Time Collision Detection", 5.1.5).
-fn point_triangle_distance(x: DVec3, [a, b, c]: [DVec3; 3]) -> f64 {
-    let (ab, ac, ax) = (b - a, c - a, x - a);
-    let (d1, d2) = (ab.dot(ax), ac.dot(ax));
-    if d1 <= 0.0 && d2 <= 0.0 {
-        return ax.length();
-    }
-    let bx = x - b;
-    let (d3, d4) = (ab.dot(bx), ac.dot(bx));
-    if d3 >= 0.0 && d4 <= d3 {
-        return bx.length();
-    }
-    let vc = d1 * d4 - d3 * d2;
-    if vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0 {
-        let v = d1 / (d1 - d3);
-        return (x - (a + ab * v)).length();
-    }
-    let cx = x - c;
-    let (d5, d6) = (ab.dot(cx), ac.dot(cx));
-    if d6 >= 0.0 && d5 <= d6 {
-        return cx.length();
-    }
-    let vb = d5 * d2 - d1 * d6;
-    if vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0 {
-        let w = d2 / (d2 - d6);
-        return (x - (a + ac * w)).length();
-    }
-    let va = d3 * d6 - d5 * d4;
-    if va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0 {
-        let w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-        return (x - (b + (c - b) * w)).length();
-    }
-    let denom = 1.0 / (va + vb + vc);
-    let (v, w) = (vb * denom, vc * denom);
-    (x - (a + ab * v + ac * w)).length()
-}
-
 /// A unit quad (two triangles) centred at `center`, spanned by `u` and `v` (half sizes
 /// included), appended to `mesh`. Used by the tests here and in `dataset`.
 #[cfg(test)]
@@ -399,24 +362,5 @@ mod tests {
         );
         assert_eq!(a, card_area_share(&moved, 8));
         assert_eq!(card_area_share(&Mesh::default(), 8), 0.0);
-    }
-
-    #[test]
-    fn point_triangle_distance_regions() {
-        let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
-        let d = |x: [f64; 3]| point_triangle_distance(DVec3::from(x), t);
-        assert!((d([0.2, 0.2, 0.5]) - 0.5).abs() < 1e-12, "interior");
-        assert!(
-            (d([-1.0, -1.0, 0.0]) - 2f64.sqrt()).abs() < 1e-12,
-            "corner a"
-        );
-        assert!((d([2.0, 0.0, 0.0]) - 1.0).abs() < 1e-12, "corner b");
-        assert!((d([0.0, 3.0, 0.0]) - 2.0).abs() < 1e-12, "corner c");
-        assert!((d([0.5, -1.0, 0.0]) - 1.0).abs() < 1e-12, "edge ab");
-        assert!((d([-2.0, 0.5, 0.0]) - 2.0).abs() < 1e-12, "edge ac");
-        assert!(
-            (d([1.0, 1.0, 0.0]) - 0.5f64.sqrt()).abs() < 1e-12,
-            "edge bc"
-        );
     }
 }

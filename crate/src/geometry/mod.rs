@@ -19,4 +19,6 @@ pub mod primitives;
 pub mod quadric;
 pub mod sample;
 pub mod topology;
+/// Point-to-triangle distance (card detection, sharpening's coverage guard).
+pub mod triangle;
 pub mod voxel;

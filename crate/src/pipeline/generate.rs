@@ -901,8 +901,11 @@ fn finish_one(
 }
 
 /// Stage 6: the candidate a user would keep ([`keep_best`]), sharpened against its input
-/// `points` ([`sharpen_kept`]); the input's planes are fitted once for both. With one
-/// candidate and sharpening off, nothing is measured.
+/// `points` ([`sharpen_kept`]); the input's planes are fitted once for both. With
+/// [`SharpenOptions::candidates`] above 1, that many candidates, the nearest the input first,
+/// are sharpened side by side and the one nearest the input afterwards is kept (sharpening
+/// reorders them: a crumpled candidate that flattens onto the points overtakes one that
+/// cannot). With one candidate and sharpening off, nothing is measured.
 pub fn keep_sharpened(
     candidates: Vec<Generated>,
     points: &[Vec3],
@@ -912,12 +915,18 @@ pub fn keep_sharpened(
         return candidates.into_iter().next().expect("one candidate");
     }
     let planes = PointPlanes::new(points, opts.sharpen.plane_neighbours);
-    sharpen_kept(
-        keep_best(candidates, points, &planes),
-        points,
-        &planes,
-        opts,
-    )
+    let keep = if sharpens(opts) {
+        opts.sharpen.candidates.max(1)
+    } else {
+        1
+    };
+    let ranked = rank_by_input(candidates, points, &planes);
+    let best: Vec<Generated> = ranked.into_iter().take(keep).collect();
+    let sharpened = map_in_parallel(best, |_, g| sharpen_kept(g, points, &planes, opts));
+    sharpened
+        .into_iter()
+        .reduce(|a, b| if b.input_score < a.input_score { b } else { a })
+        .expect("at least one candidate")
 }
 
 /// Whether [`sharpen_kept`] edits: sharpening on, after the manifold extraction only (its
@@ -995,27 +1004,33 @@ fn keep_sharpened_all(
 /// planes [`NORMAL_WEIGHT`] times that, then the first; its score is kept in
 /// [`Generated::input_score`]. Only the output and the input decide, never a ground truth.
 /// Panics on no candidates.
-pub fn keep_best(
+pub fn keep_best(candidates: Vec<Generated>, points: &[Vec3], planes: &PointPlanes) -> Generated {
+    rank_by_input(candidates, points, planes)
+        .into_iter()
+        .next()
+        .expect("at least one candidate")
+}
+
+/// The candidates nearest the input first by [`keep_best`]'s measure (ties in their order),
+/// each with its score in [`Generated::input_score`]; one candidate is not measured.
+fn rank_by_input(
     mut candidates: Vec<Generated>,
     points: &[Vec3],
     planes: &PointPlanes,
-) -> Generated {
+) -> Vec<Generated> {
     // One candidate: nothing to choose, so no surface sampling.
-    if candidates.len() == 1 {
-        return candidates.remove(0);
+    if candidates.len() <= 1 {
+        return candidates;
     }
     let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| {
         input_score(&g.mesh, g.topology.holes, points, planes)
     });
-    let best = (0..candidates.len())
-        .min_by(|&a, &b| scores[a].total_cmp(&scores[b]))
-        .expect("at least one candidate");
-    let mut kept = candidates
-        .into_iter()
-        .nth(best)
-        .expect("the best is one of them");
-    kept.input_score = Some(scores[best]);
-    kept
+    for (g, s) in candidates.iter_mut().zip(&scores) {
+        g.input_score = Some(*s);
+    }
+    // A stable sort keeps the first of equal scores first, as the choice always did.
+    candidates.sort_by(|a, b| a.input_score.unwrap().total_cmp(&b.input_score.unwrap()));
+    candidates
 }
 
 /// How far a mesh is from the input `points` as [`keep_best`] and [`sharpen_kept`] judge it:

@@ -21,8 +21,10 @@
 //!    tolerance (RMS distance `flat_tolerance` of the mesh's size, or `noise_tolerance` times
 //!    the points' own RMS off-plane spread, whichever is larger) and leaves no face farther
 //!    from the input than twice that, or than the faces there were (`strays`): a flat region
-//!    ends as a few large faces, a crease as one row of edges. Delaunay flips between coplanar
-//!    faces undo the slivers that greedy collapses leave, and the collapses go on.
+//!    ends as a few large faces, a crease as one row of edges. No collapse takes the surface
+//!    away from the input points it covered (`Coverage`), so a thin part (a leg, a fin)
+//!    survives. Delaunay flips between coplanar faces undo the slivers that greedy collapses
+//!    leave, and the collapses go on.
 //! 4. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
 //!    that one whose region straddles a crease lands on it.
 //! 5. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
@@ -50,6 +52,7 @@ use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
 use crate::geometry::topology::{degenerate_faces, edges};
+use crate::geometry::triangle::{closest_point_weights, point_triangle_distance};
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 use crate::surface::complete::point_spacing;
@@ -85,6 +88,10 @@ pub struct SharpenOptions {
     /// this many times the fitted mesh's (`pipeline::generate::sharpen_kept`; 1: never
     /// farther).
     pub accept_ratio: f64,
+    /// Generation sharpens this many of its candidates, the nearest the input points first,
+    /// and keeps the sharpened one nearest them (`pipeline::generate::keep_sharpened`; 1: only
+    /// the candidate kept before sharpening).
+    pub candidates: usize,
 }
 
 impl Default for SharpenOptions {
@@ -100,6 +107,7 @@ impl Default for SharpenOptions {
             max_turn_deg: 60.0,
             passes: 8,
             accept_ratio: 1.0,
+            candidates: 1,
         }
     }
 }
@@ -266,6 +274,14 @@ impl PointPlanes {
         self.tree.size() == 0
     }
 
+    /// The (finite) input points.
+    fn points(&self) -> Vec<DVec3> {
+        self.tree
+            .iter()
+            .map(|p| Vec3::from_array(*p.geom()).as_dvec3())
+            .collect()
+    }
+
     /// How well surface `normals` at `samples` agree with the input's planes: the mean
     /// absolute cosine between each sample's normal and the plane normal that stands for the
     /// input nearest it (the plane `nearest_plane` picks), over samples with one; `None`
@@ -414,6 +430,7 @@ pub fn sharpen_judged(
 
     let tolerance = (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
     report.tolerance = tolerance as f32;
+    let points = planes.points();
     // Each round's mesh, compacted: (positions, faces, the edit mesh's vertex of each).
     let mut rounds = Vec::with_capacity(opts.passes);
     for _round in 0..opts.passes {
@@ -455,6 +472,7 @@ pub fn sharpen_judged(
         report.collapses += decimate(
             &mut m,
             planes,
+            &points,
             &mut quadrics,
             target_faces,
             tolerance,
@@ -713,11 +731,14 @@ fn vertex_quadrics(m: &EditMesh, planes: &PointPlanes) -> Vec<Quadric> {
 }
 
 /// Quadric edge collapses, cheapest first, to `target` faces and on below while a collapse's
-/// RMS cost is under `tolerance`; `quadrics` are summed as vertices merge. Returns the
-/// collapses made.
+/// RMS cost is under `tolerance`; `quadrics` are summed as vertices merge. No collapse takes
+/// the surface away from the input `points` it covers (`Coverage`). Returns the collapses
+/// made.
+#[allow(clippy::too_many_arguments)]
 fn decimate(
     m: &mut EditMesh,
     planes: &PointPlanes,
+    points: &[DVec3],
     quadrics: &mut [Quadric],
     target: usize,
     tolerance: f64,
@@ -749,11 +770,16 @@ fn decimate(
             heap.push((Reverse(OrdF64(cost)), a, b, v[a as usize], v[b as usize]));
         };
     let tolerance2 = tolerance * tolerance;
+    let reach = (COVER_TOLERANCES * tolerance).max(planes.spacing);
+    let mut coverage = Coverage::new(m, points);
     let mut collapses = 0;
     // Rounds: collapse until the cheapest allowed collapse is over the tolerance (or none is
     // allowed), then even out the flat fans that greedy collapses leave (Delaunay flips
     // between coplanar faces) so that refused collapses may pass, and go again.
-    for _round in 0..6 {
+    for round in 0..6 {
+        if round > 0 {
+            coverage.reassign(m);
+        }
         heap.clear();
         for [a, b] in m.edges() {
             push(&mut heap, m, quadrics, &version, a, b);
@@ -781,10 +807,13 @@ fn decimate(
                 sum.error(x) / sum.weight.max(1e-300) <= limit.max(cost)
                     && m.can_collapse(a, b, x, min_cos)
                     && (faces > target || !strays(m, planes, a, b, x, 2.0 * tolerance))
+                    && !coverage.uncovers(m, a, b, x, reach)
             }) else {
                 continue;
             };
+            let moved = coverage.take(m, a, b);
             m.collapse(a, b, x);
+            coverage.give(m, a, moved);
             faces = m.face_count();
             collapses += 1;
             let merged = quadrics[b as usize];
@@ -800,6 +829,155 @@ fn decimate(
         }
     }
     collapses
+}
+
+/// How far, in multiples of the collapse tolerance (and at least a point spacing), a collapse
+/// may take the surface away from an input point it covered ([`Coverage`]).
+const COVER_TOLERANCES: f64 = 4.0;
+
+/// The input points each face stands for (each point's nearest face among those of its three
+/// nearest vertices) and how far each point was from the surface when decimation began: a
+/// collapse that would leave one of its faces' points more than a reach farther from the new
+/// faces around it than that is refused. The quadrics and [`strays`] ask whether the mesh
+/// stays near the input; this asks whether the input stays near the mesh (the distance from
+/// the points to the mesh of Hoppe et al.'s mesh optimisation, as a guard), so that a thin
+/// part (a table's leg, a fin) is not collapsed into the surface beside it.
+struct Coverage {
+    points: Vec<DVec3>,
+    of_face: Vec<Vec<u32>>,
+    /// Each point's distance from its face at the start, and now.
+    start: Vec<f64>,
+    now: Vec<f64>,
+}
+
+impl Coverage {
+    fn new(m: &EditMesh, points: &[DVec3]) -> Self {
+        let mut c = Coverage {
+            points: points.to_vec(),
+            of_face: Vec::new(),
+            start: Vec::new(),
+            now: Vec::new(),
+        };
+        c.reassign(m);
+        c.start = c.now.clone();
+        c
+    }
+
+    /// Each point to its nearest face again (after flips).
+    fn reassign(&mut self, m: &EditMesh) {
+        self.of_face = vec![Vec::new(); m.faces.len()];
+        let live: Vec<GeomWithData<[f64; 3], u32>> = (0..m.positions.len())
+            .filter(|&v| !m.faces_of(v as u32).is_empty())
+            .map(|v| GeomWithData::new(m.positions[v].to_array(), v as u32))
+            .collect();
+        self.now = vec![f64::INFINITY; self.points.len()];
+        if live.is_empty() {
+            return;
+        }
+        let tree = RTree::bulk_load(live);
+        let nearest = map_in_parallel(self.points.iter().collect(), |_, &x| {
+            tree.nearest_neighbor_iter(x.to_array())
+                .take(3)
+                .flat_map(|v| m.faces_of(v.data).iter().copied())
+                .map(|f| (face_distance(m, f, x), f))
+                .min_by(|p, q| p.0.total_cmp(&q.0))
+        });
+        for (i, n) in nearest.into_iter().enumerate() {
+            if let Some((d, f)) = n {
+                self.of_face[f as usize].push(i as u32);
+                self.now[i] = d;
+            }
+        }
+    }
+
+    /// Whether collapsing `(a, b)` to `x` leaves a point of their faces more than `reach`
+    /// farther from the faces around `x` than it was at the start.
+    fn uncovers(&self, m: &EditMesh, a: u32, b: u32, x: DVec3, reach: f64) -> bool {
+        let around = || m.faces_of(a).iter().chain(m.faces_of(b));
+        let at = |v: u32| {
+            if v == a || v == b {
+                x
+            } else {
+                m.positions[v as usize]
+            }
+        };
+        let removed = |f: &[u32; 3]| f.contains(&a) && f.contains(&b);
+        let fan: Vec<[DVec3; 3]> = around()
+            .map(|&f| m.faces[f as usize].expect("live"))
+            .filter(|f| !removed(f))
+            .map(|f| f.map(at))
+            .collect();
+        // A face's point moves with it, to the same weights on the moved face, by at most the
+        // farther end's move: a point that cannot pass its limit that way needs no measuring.
+        // The moved face is one of the new faces, or for a removed face the segment from `x`
+        // to its third vertex, an edge of the new faces when a surviving face has that vertex
+        // (else its points are always measured).
+        let moves = x
+            .distance(m.positions[a as usize])
+            .max(x.distance(m.positions[b as usize]));
+        let in_fan = |c: u32| {
+            around()
+                .map(|&f| m.faces[f as usize].expect("live"))
+                .any(|f| !removed(&f) && f.contains(&c))
+        };
+        around().any(|&f| {
+            let face = m.faces[f as usize].expect("live");
+            let bounded = !removed(&face)
+                || face
+                    .iter()
+                    .find(|&&v| v != a && v != b)
+                    .is_some_and(|&c| in_fan(c));
+            let (old, new) = (m.corners(face), face.map(at));
+            self.of_face[f as usize].iter().any(|&p| {
+                let limit = reach + self.start[p as usize];
+                if bounded && self.now[p as usize] + moves <= limit {
+                    return false;
+                }
+                let y = self.points[p as usize];
+                if bounded {
+                    let [u, v, w] = closest_point_weights(y, old);
+                    if y.distance(new[0] * u + new[1] * v + new[2] * w) <= limit {
+                        return false;
+                    }
+                }
+                let d = fan
+                    .iter()
+                    .map(|&t| point_triangle_distance(y, t))
+                    .fold(f64::INFINITY, f64::min);
+                d > limit
+            })
+        })
+    }
+
+    /// The points of the faces around `(a, b)`, before they collapse.
+    fn take(&mut self, m: &EditMesh, a: u32, b: u32) -> Vec<u32> {
+        let mut moved = Vec::new();
+        for &f in m.faces_of(a).iter().chain(m.faces_of(b)) {
+            moved.append(&mut self.of_face[f as usize]);
+        }
+        moved
+    }
+
+    /// `moved` points, each to its nearest face around the surviving vertex `a`.
+    fn give(&mut self, m: &EditMesh, a: u32, moved: Vec<u32>) {
+        for p in moved {
+            let y = self.points[p as usize];
+            if let Some((d, f)) = m
+                .faces_of(a)
+                .iter()
+                .map(|&f| (face_distance(m, f, y), f))
+                .min_by(|u, v| u.0.total_cmp(&v.0))
+            {
+                self.of_face[f as usize].push(p);
+                self.now[p as usize] = d;
+            }
+        }
+    }
+}
+
+/// Distance from `x` to the live face `f` of `m`.
+fn face_distance(m: &EditMesh, f: u32, x: DVec3) -> f64 {
+    point_triangle_distance(x, m.corners(m.faces[f as usize].expect("live")))
 }
 
 /// Whether collapsing `(a, b)` to `x` would leave a face around them whose centroid or edge
@@ -1005,6 +1183,38 @@ mod tests {
         let judged = sharpen_judged(&mut a, &planes, &opts, |_| true);
         assert_eq!(judged, sharpen(&mut b, &planes, &opts));
         assert_eq!(a, b);
+    }
+
+    #[test]
+    fn a_collapse_that_would_flatten_a_spike_the_points_cover_is_refused() {
+        // A 6 x 6 grid on z = 0 with the vertex (3, 3) raised to a spike, its own surface the
+        // input: collapsing the spike's tip onto its base leaves the spike's points far from
+        // the surface; collapsing two flat vertices leaves every point where it was.
+        let mut flat = grid(6, 6);
+        let tip = 3 * 7 + 3;
+        flat.positions[tip].z = 0.8;
+        let points: Vec<DVec3> = sample_surface(&flat, 4096, 1)
+            .unwrap()
+            .points
+            .iter()
+            .map(|p| p.as_dvec3())
+            .collect();
+        let m = EditMesh::new(
+            flat.positions.iter().map(|p| p.as_dvec3()).collect(),
+            &flat.faces,
+        );
+        let coverage = Coverage::new(&m, &points);
+        let base = tip as u32 - 1;
+        assert!(m.neighbours(tip as u32).contains(&base));
+        let reach = 0.02;
+        assert!(coverage.uncovers(&m, base, tip as u32, m.positions[base as usize], reach));
+        // (0, 1) and (1, 1), far from the spike: the surface does not move.
+        let (a, b) = (7, 8);
+        assert!(m.neighbours(a).contains(&b));
+        assert!(!coverage.uncovers(&m, a, b, m.positions[a as usize], reach));
+        // Every point is on the surface it was assigned to.
+        let worst = coverage.start.iter().copied().fold(0.0, f64::max);
+        assert!(worst < 1e-5, "{worst}");
     }
 
     #[test]
