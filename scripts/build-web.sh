@@ -1,15 +1,18 @@
 #!/usr/bin/env bash
 # Build the browser module: `bash scripts/build-web.sh`.
 #
-# 1. compiles the crate's wasm-bindgen API for wasm32 as a cdylib in the `wasm-release` profile
-#    (opt-level z, fat LTO), twice: features `web,wgpu` without the default `cpu` (meshflow:
-#    WebGPU alone) and `web,webgl` (meshflow_cpu: the CPU path and its WebGL2 viewer, the smaller
-#    download);
+# 1. compiles the crate's wasm-bindgen API for wasm32 as a cdylib, twice: features `web,wgpu`
+#    without the default `cpu` (meshflow: WebGPU alone) in the `wasm-release` profile (opt-level
+#    z, fat LTO: its size target), and `web,webgl` (meshflow_cpu: the CPU path and its WebGL2
+#    viewer) in `wasm-release-cpu` (opt-level 3: it runs the models and the geometry itself,
+#    15-30% faster a generation for 0.69 MB more gzipped,
+#    docs/experiments/2026-12-02-wasm-cpu-opt-level.md);
 # 2. runs wasm-bindgen (the CLI at the exact version in Cargo.lock, installed if missing)
 #    with `--target web` into web/pkg/;
 # 3. in the WebGPU module, replaces the matmul kernels WebGPU can never launch with `unreachable`
-#    (scripts/snip-wasm.mjs; see SNIP below), then shrinks each module with npm binaryen@132's
-#    `wasm-opt -Oz` (Debian's binaryen 108 corrupts this module; docs/design.md section 6);
+#    (scripts/snip-wasm.mjs; see SNIP below), then optimises each module with npm binaryen@132's
+#    `wasm-opt` (-Oz for the WebGPU module, -O3 for the CPU one; Debian's binaryen 108 corrupts
+#    this module; docs/design.md section 6);
 # 4. prints both modules' sizes, raw and gzipped.
 # The page and the npm package download weights/ as it is (f16, the files the CLI runs).
 #
@@ -64,28 +67,28 @@ fi
 SNIP=('::tiled::(cmma|cpu_gemm)::kernel::')
 
 build_module() {
-    local name="$1" snip="$2"
-    shift 2
-    log "compiling $name ($*, profile wasm-release)"
-    RUSTC_BOOTSTRAP=1 cargo rustc -p meshflow --profile wasm-release \
+    local name="$1" snip="$2" profile="$3" opt="$4"
+    shift 4
+    log "compiling $name ($*, profile $profile)"
+    RUSTC_BOOTSTRAP=1 cargo rustc -p meshflow --profile "$profile" \
         --target wasm32-unknown-unknown "$@" --crate-type cdylib \
         --config 'target.wasm32-unknown-unknown.rustflags = ["-Zlocation-detail=none", "-Zmerge-functions=disabled"]'
-    local wasm="$CARGO_TARGET_DIR/wasm32-unknown-unknown/wasm-release/meshflow.wasm"
+    local wasm="$CARGO_TARGET_DIR/wasm32-unknown-unknown/$profile/meshflow.wasm"
     log "wasm-bindgen --target web -> $OUT/$name.js"
     wasm-bindgen --target web --out-dir "$OUT" --out-name "$name" "$wasm"
     if [[ "$snip" == snip ]]; then
         log "snip-wasm $name: ${SNIP[*]}"
         node scripts/snip-wasm.mjs "$OUT/${name}_bg.wasm" "$OUT/${name}_bg.wasm" "${SNIP[@]}"
     fi
-    log "wasm-opt -Oz $name"
-    node_modules/.bin/wasm-opt -Oz --low-memory-unused --enable-bulk-memory \
+    log "wasm-opt $opt $name"
+    node_modules/.bin/wasm-opt "$opt" --low-memory-unused --enable-bulk-memory \
         --enable-nontrapping-float-to-int --enable-sign-ext --enable-mutable-globals \
         --enable-reference-types "$OUT/${name}_bg.wasm" -o "$OUT/${name}_bg.opt.wasm"
     mv "$OUT/${name}_bg.opt.wasm" "$OUT/${name}_bg.wasm"
 }
 mkdir -p "$OUT"
-build_module meshflow snip --no-default-features --features web,wgpu
-build_module meshflow_cpu no-snip --features web,webgl
+build_module meshflow snip wasm-release -Oz --no-default-features --features web,wgpu
+build_module meshflow_cpu no-snip wasm-release-cpu -O3 --features web,webgl
 
 for name in meshflow meshflow_cpu; do
     raw=$(stat -c %s "$OUT/${name}_bg.wasm")

@@ -354,6 +354,42 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await cpu.close();
 });
 
+await check('a candidate worker that cannot start leaves one module drawing, and the page says so', async () => {
+  // The page's own files, except the helpers' script: a host that does not serve it.
+  const { createServer } = await import('node:http');
+  const proxy = createServer(async (req, res) => {
+    if (req.url.includes('candidates-worker.js')) {
+      res.writeHead(404);
+      res.end();
+      return;
+    }
+    const r = await fetch(`${base}${req.url}`);
+    const body = Buffer.from(await r.arrayBuffer());
+    res.writeHead(r.status, Object.fromEntries([...r.headers].filter(([k]) => !['content-encoding', 'transfer-encoding', 'content-length'].includes(k))));
+    res.end(body);
+  });
+  await new Promise((ok) => proxy.listen(0, '127.0.0.1', ok));
+  const cpu = await launch(false);
+  try {
+    const p = await cpu.newPage();
+    // Two workers asked for, so a helper is started whatever the core count.
+    await p.goto(`http://127.0.0.1:${proxy.address().port}/web/?workers=2`);
+    await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+    const workers = await p.evaluate(() => document.body.dataset.workers);
+    const shown = await p.textContent('#backend');
+    assert(workers === '1', `${workers} workers with the helpers' script missing`);
+    assert(/1 of 1 candidate workers did not start/.test(shown), `backend text: ${shown}`);
+    await p.setInputFiles('#file', FIXTURE);
+    await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+    await generate(p, { steps: 1, samples: 2 });
+    const faces = await p.textContent('#stats tr[data-key="vertices / faces"] td:last-child');
+    assert(Number(faces.split('/')[1]) > 0, `faces with one module: ${faces}`);
+  } finally {
+    await cpu.close();
+    proxy.close();
+  }
+});
+
 await check('where the canvas cannot go to the worker, the page draws with its 2D viewer', async () => {
   // A browser without OffscreenCanvas, as far as the page can tell (Chromium's flags against
   // WebGL leave a worker's OffscreenCanvas its WebGL2 context, so that case cannot be made here).

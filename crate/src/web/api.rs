@@ -29,9 +29,11 @@ use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::sampler::step;
 use crate::model::schedule::step_times;
 use crate::model::{add_pair_corrections, spacetime_distances};
+#[cfg(feature = "cpu")]
+use crate::pipeline::generate::check_samples;
 use crate::pipeline::generate::{
-    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, check_samples,
-    input_points, keep_sharpened, kept_slots, read_bits,
+    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
+    keep_sharpened, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(any(feature = "wgpu", feature = "webgl"))]
@@ -230,6 +232,9 @@ impl MeshFlow {
     /// `seed + j` in whichever run it is drawn, and a batch's rows do not depend on each other
     /// (crate/tests/candidate_split.rs), so the runs together are the candidates that
     /// [`Self::generate`] draws at once.
+    ///
+    /// In the CPU module only (the WebGPU module's one device draws every candidate).
+    #[cfg(feature = "cpu")]
     #[wasm_bindgen(js_name = generateCandidates)]
     pub async fn generate_candidates(
         &self,
@@ -258,6 +263,8 @@ impl MeshFlow {
     /// The mesh [`Self::generate`] makes, from its candidates drawn in runs by
     /// [`Self::generate_candidates`] (`parts`: their bytes in the order of `first`, together
     /// all `options.samples` of them): the one kept, sharpened.
+    /// In the CPU module only.
+    #[cfg(feature = "cpu")]
     #[wasm_bindgen(js_name = keepCandidates)]
     pub fn keep_candidates(
         &self,
