@@ -112,12 +112,32 @@ fn generated_meshes_are_valid_and_reported() {
         ),
         (0, 0)
     );
-    // The budget sets the tokens; the decoder's mask picks which of their vertex slots (the
-    // budget's length bucket) are real, so the mesh holds at most those, plus one for each
-    // hole closed by a fan.
-    assert!(g.extract.input_vertices >= g.vertex_budget);
-    assert!(g.mesh.positions.len() <= g.extract.input_vertices + g.close.vertices_added);
+    // Sharpening, when it keeps a round, says how many faces it left.
+    if g.sharpen.rounds_kept > 0 {
+        assert_eq!(g.sharpen.faces_out, g.mesh.faces.len());
+    }
     assert!(g.times.sample_s > 0.0 && g.times.decode_s > 0.0);
+    // The budget sets the tokens; the decoder's mask picks which of their vertex slots (the
+    // budget's length bucket) are real, so the unsharpened mesh holds at most those, plus one
+    // for each hole closed by a fan (sharpening's splits and collapses rebuild the
+    // connectivity, so its vertex count has no such bound).
+    let unsharpened = GenerateOptions {
+        sharpen: meshflow::surface::sharpen::SharpenOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        ..options(4)
+    };
+    let u = &m
+        .generator()
+        .generate(
+            &[sphere_points(1.0, Vec3::ZERO)],
+            &unsharpened,
+            &mut |_, _| true,
+        )
+        .unwrap()[0];
+    assert!(u.extract.input_vertices >= u.vertex_budget);
+    assert!(u.mesh.positions.len() <= u.extract.input_vertices + u.close.vertices_added);
 }
 
 #[test]
@@ -475,6 +495,10 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
     let raw = GenerateOptions {
         fit: meshflow::surface::fit::FitOptions::OFF,
         complete: meshflow::surface::complete::CompleteOptions {
+            enabled: false,
+            ..Default::default()
+        },
+        sharpen: meshflow::surface::sharpen::SharpenOptions {
             enabled: false,
             ..Default::default()
         },
