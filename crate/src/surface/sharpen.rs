@@ -23,8 +23,10 @@
 //!    from the input than twice that, or than the faces there were (`strays`): a flat region
 //!    ends as a few large faces, a crease as one row of edges. No collapse takes the surface
 //!    away from the input points it covered (`Coverage`), so a thin part (a leg, a fin)
-//!    survives. Delaunay flips between coplanar faces undo the slivers that greedy collapses
-//!    leave, and the collapses go on.
+//!    survives; where it refuses the collapses that would reach the incoming face count, more
+//!    faces stay (14 of the 244 test-split meshes end with more faces than they came with).
+//!    Delaunay flips between coplanar faces undo the slivers that greedy collapses leave, and
+//!    the collapses go on.
 //! 4. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
 //!    that one whose region straddles a crease lands on it.
 //! 5. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
