@@ -13,6 +13,7 @@ use meshflow::geometry::topology::{
     EdgeIncidence, TopologyReport, edges, hole_loops, rotate_min_first, sorted_face,
 };
 use meshflow::rng::Rng;
+use meshflow::surface::input::InputPoints;
 use proptest::prelude::*;
 
 /// A perturbed icosphere or grid with some faces deleted and its vertices renumbered at random.
@@ -220,7 +221,7 @@ proptest! {
             min_component_faces: 2,
             overlap_tolerance: 0.0,
         };
-        let (out, r) = meshflow::surface::complete::complete_surface(&lace, &points, &opts, &manifold);
+        let (out, r) = meshflow::surface::complete::complete_surface(&lace, &InputPoints::new(&points), &opts, &manifold);
         let t = TopologyReport::of(&out);
         prop_assert!(out.validate().is_ok());
         prop_assert_eq!(t.non_manifold_edges, 0);
@@ -252,7 +253,7 @@ proptest! {
         let before = TopologyReport::of(&holed);
         let opts = meshflow::surface::close::CloseOptions { enabled: true, max_edges, max_gap: gap };
         let mut out = holed.clone();
-        let r = meshflow::surface::close::close_holes(&mut out, &points, &opts);
+        let r = meshflow::surface::close::close_holes(&mut out, &InputPoints::new(&points), &opts);
         let t = TopologyReport::of(&out);
         prop_assert!(out.validate().is_ok());
         prop_assert_eq!(t.non_manifold_edges, 0);

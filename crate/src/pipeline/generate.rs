@@ -42,6 +42,7 @@ use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
 use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
 use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
+use crate::surface::input::InputPoints;
 use crate::surface::sharpen::{PointPlanes, SharpenOptions, SharpenReport, sharpen_judged};
 
 /// Points drawn from a mesh's surface (or kept from a point cloud) to condition on.
@@ -264,6 +265,9 @@ struct Conditioned {
     to_input: Normalization,
     /// The input in the model frame, where the token positions are drawn.
     model_points: Vec<Vec3>,
+    /// The same points as fitting, completion and hole closing search them (built once for
+    /// all candidates).
+    model_input: InputPoints,
     budget: usize,
     features: ShapeFeatures,
     /// Time spent conditioning this input (zero for a candidate that shares an earlier
@@ -735,6 +739,7 @@ impl Generator<'_> {
         };
         Ok(Conditioned {
             to_input,
+            model_input: InputPoints::new(&model_points),
             model_points,
             budget,
             features,
@@ -851,12 +856,12 @@ fn finish_one(
     let completing = completes(opts);
     let (mut mesh, report) = extract_from_decoded(decoded, &candidate_extraction(opts))?;
     let fitting = Instant::now();
-    let fit = fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_points, &opts.fit);
+    let fit = fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_input, &opts.fit);
     let mut complete = CompleteReport::default();
     if completing {
         (mesh, complete) = complete_surface(
             &mesh,
-            &c.model_points,
+            &c.model_input,
             &opts.complete,
             &opts.extract.manifold_options(),
         );
@@ -868,14 +873,14 @@ fn finish_one(
                 smoothing: opts.complete.refine_smoothing,
                 ..opts.fit
             };
-            fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_points, &refit);
+            fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_input, &refit);
             let again = CompleteOptions {
                 weld_ratio: 0.0,
                 ..opts.complete
             };
             (mesh, _) = complete_surface(
                 &mesh,
-                &c.model_points,
+                &c.model_input,
                 &again,
                 &opts.extract.manifold_options(),
             );
@@ -883,7 +888,7 @@ fn finish_one(
     }
     let mut close = CloseReport::default();
     if completing {
-        close = close_holes(&mut mesh, &c.model_points, &opts.close);
+        close = close_holes(&mut mesh, &c.model_input, &opts.close);
     }
     if completing && opts.extract.compact {
         mesh.remove_unreferenced_vertices();

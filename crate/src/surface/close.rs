@@ -45,8 +45,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::geometry::topology::{DEGENERATE_TOLERANCE, Edge, face_edges, hole_loops, sorted_face};
-use crate::surface::complete::{on_surface, point_spacing};
-use crate::surface::fit::{finite_point_tree, project};
+use crate::surface::complete::on_surface;
+use crate::surface::fit::project;
+use crate::surface::input::InputPoints;
 
 /// Longest loop closed between its own vertices when a fan cannot close it: the least-area
 /// triangulation is O(k^3), about a million steps here.
@@ -96,15 +97,15 @@ pub struct CloseReport {
 /// extraction gives); edges with more than two faces are left as they are. New vertices are
 /// appended, with normals when the mesh has them. Non-finite points are ignored; with fewer
 /// than two finite points there is no surface test, and with fewer than three no projection.
-pub fn close_holes(mesh: &mut Mesh, points: &[Vec3], opts: &CloseOptions) -> CloseReport {
+pub fn close_holes(mesh: &mut Mesh, points: &InputPoints, opts: &CloseOptions) -> CloseReport {
     let mut report = CloseReport::default();
     if !opts.enabled {
         return report;
     }
-    let tree = finite_point_tree(points);
-    let max_gap = opts.max_gap * point_spacing(&tree);
+    let tree = points.tree();
+    let max_gap = opts.max_gap * points.spacing();
     let on_input = |corners: [Vec3; 3]| {
-        tree.size() < 2 || opts.max_gap <= 0.0 || on_surface(corners, &tree, max_gap)
+        tree.size() < 2 || opts.max_gap <= 0.0 || on_surface(corners, tree, max_gap)
     };
     let existing: HashSet<[u32; 3]> = mesh.faces.iter().map(|&f| sorted_face(f)).collect();
     let mut edges: HashSet<Edge> = mesh.faces.iter().flat_map(|&f| face_edges(f)).collect();
@@ -126,7 +127,7 @@ pub fn close_holes(mesh: &mut Mesh, points: &[Vec3], opts: &CloseOptions) -> Clo
         let at = |v: u32| mesh.positions[v as usize];
         if k > 3 {
             let centre = hole.iter().map(|&v| at(v)).sum::<Vec3>() / k as f32;
-            let hub = project(centre, &tree, 8);
+            let hub = project(centre, tree, 8);
             let fan: Vec<[Vec3; 3]> = (0..k)
                 .map(|i| [at(hole[i]), at(hole[(i + 1) % k]), hub])
                 .collect();
@@ -280,7 +281,11 @@ mod tests {
         let before = TopologyReport::of(&holed);
         assert!(before.holes >= 2, "{before:?}");
         let mut closed = holed.clone();
-        let report = close_holes(&mut closed, &[], &CloseOptions::default());
+        let report = close_holes(
+            &mut closed,
+            &InputPoints::new(&[]),
+            &CloseOptions::default(),
+        );
         let after = TopologyReport::of(&closed);
         assert!(after.is_clean_closed(), "{after:?}");
         assert_eq!(report.holes_closed, before.holes);
@@ -300,7 +305,7 @@ mod tests {
     fn an_open_box_gets_a_lid_wound_like_its_walls() {
         // A cube without its two top triangles: one square hole, closed by a 4-face fan.
         let mut open = open_box();
-        let report = close_holes(&mut open, &[], &CloseOptions::default());
+        let report = close_holes(&mut open, &InputPoints::new(&[]), &CloseOptions::default());
         assert_eq!(
             (
                 report.holes_closed,
@@ -325,20 +330,23 @@ mod tests {
             max_edges: 3,
             ..CloseOptions::default()
         };
-        let report = close_holes(&mut open, &[], &long_only);
+        let report = close_holes(&mut open, &InputPoints::new(&[]), &long_only);
         assert_eq!((report.holes_closed, report.holes_left), (0, 1));
         let off = CloseOptions {
             enabled: false,
             ..CloseOptions::default()
         };
-        assert_eq!(close_holes(&mut open, &[], &off), CloseReport::default());
+        assert_eq!(
+            close_holes(&mut open, &InputPoints::new(&[]), &off),
+            CloseReport::default()
+        );
         // A lone triangle's border is a loop of three, and doubling it would close nothing.
         let mut lone = Mesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
             normals: vec![],
             faces: vec![[0, 1, 2]],
         };
-        let report = close_holes(&mut lone, &[], &CloseOptions::default());
+        let report = close_holes(&mut lone, &InputPoints::new(&[]), &CloseOptions::default());
         assert_eq!((report.holes_closed, report.holes_left), (0, 1));
         assert_eq!(lone.faces.len(), 1);
     }
@@ -368,7 +376,7 @@ mod tests {
         let mut kept = open.clone();
         let report = close_holes(
             &mut kept,
-            &cube_points(|a| a != Vec3::Y),
+            &InputPoints::new(&cube_points(|a| a != Vec3::Y)),
             &CloseOptions::default(),
         );
         assert_eq!((report.holes_closed, report.holes_left), (0, 1));
@@ -377,7 +385,7 @@ mod tests {
         let mut closed = open.clone();
         let report = close_holes(
             &mut closed,
-            &cube_points(|_| true),
+            &InputPoints::new(&cube_points(|_| true)),
             &CloseOptions::default(),
         );
         assert_eq!((report.holes_closed, report.vertices_added), (1, 1));
@@ -408,7 +416,11 @@ mod tests {
             })
             .collect();
         let mut closed = sheet.clone();
-        let report = close_holes(&mut closed, &points, &CloseOptions::default());
+        let report = close_holes(
+            &mut closed,
+            &InputPoints::new(&points),
+            &CloseOptions::default(),
+        );
         assert_eq!(
             (
                 report.holes_closed,

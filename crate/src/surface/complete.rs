@@ -64,7 +64,8 @@ use crate::extract::orient_face;
 use crate::geometry::clean::weld;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::topology::sorted_face;
-use crate::surface::fit::{Indexed, finite_point_tree, least_spread_direction};
+use crate::surface::fit::least_spread_direction;
+use crate::surface::input::{Indexed, InputPoints};
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -156,7 +157,7 @@ pub struct CompleteReport {
 /// `enabled` off, `faces` comes back unchanged.
 pub fn complete_surface(
     mesh: &Mesh,
-    points: &[Vec3],
+    points: &InputPoints,
     opts: &CompleteOptions,
     manifold: &ManifoldOptions,
 ) -> (Mesh, CompleteReport) {
@@ -164,11 +165,11 @@ pub fn complete_surface(
     if !opts.enabled || mesh.positions.len() < 3 {
         return (mesh.clone(), report);
     }
-    let point_tree = finite_point_tree(points);
+    let point_tree = points.tree();
     if point_tree.size() < 2 {
         return (mesh.clone(), report);
     }
-    let spacing = point_spacing(&point_tree);
+    let spacing = points.spacing();
     let edge_scale = median_edge(&mesh.positions, &mesh.faces).unwrap_or(spacing * 4.0);
     let (mut welded, merged) = weld(mesh, opts.weld_ratio * edge_scale);
     report.welded_vertices = merged;
@@ -208,11 +209,11 @@ pub fn complete_surface(
         .copied()
         .filter(|f| {
             !opts.drop_off_surface
-                || on_surface(f.map(|v| positions[v as usize]), &point_tree, max_gap)
+                || on_surface(f.map(|v| positions[v as usize]), point_tree, max_gap)
         })
         .collect();
     report.off_surface = faces.len() - model_faces.len();
-    let votes = local_delaunay_votes(positions, &near, &point_tree, opts.max_slope);
+    let votes = local_delaunay_votes(positions, &near, point_tree, opts.max_slope);
 
     // Rank, lower first: ten perimeters (in median edges) a vote, plus `bonus` votes.
     let rank = |tri: [u32; 3], perimeter: f32, bonus: f32| {
@@ -239,7 +240,7 @@ pub fn complete_surface(
                 }
                 let corners = tri.map(|v| positions[v as usize]);
                 if let Some(perimeter) = usable(corners, max_edge, min_sin)
-                    && on_surface(corners, &point_tree, max_gap)
+                    && on_surface(corners, point_tree, max_gap)
                 {
                     candidates.push((tri, rank(tri, perimeter, 0.0)));
                 }
@@ -362,24 +363,6 @@ fn circumcircle(a: Vec2, b: Vec2, c: Vec2) -> Option<(Vec2, f32)> {
     Some((a + centre, centre.length_squared()))
 }
 
-/// Median distance from an input point to its nearest other point (over at most 1,024 of
-/// them, evenly spread in index order).
-pub(crate) fn point_spacing(tree: &RTree<Indexed>) -> f32 {
-    let all: Vec<&Indexed> = tree.iter().collect();
-    let stride = all.len().div_ceil(1024).max(1);
-    let mut d: Vec<f32> = all
-        .iter()
-        .step_by(stride)
-        .filter_map(|p| {
-            tree.nearest_neighbor_iter(*p.geom())
-                .find(|q| q.data != p.data)
-                .map(|q| Vec3::from_array(*q.geom()).distance(Vec3::from_array(*p.geom())))
-        })
-        .collect();
-    d.sort_by(f32::total_cmp);
-    d.get(d.len() / 2).copied().unwrap_or(0.0)
-}
-
 /// Median edge length over `faces`, `None` without faces.
 fn median_edge(positions: &[Vec3], faces: &[[u32; 3]]) -> Option<f32> {
     let mut lengths: Vec<f32> = faces
@@ -487,7 +470,7 @@ mod tests {
         let model = grid(vec![[0, 1, 6], [18, 19, 24]]);
         let (mesh, r) = complete_surface(
             &model,
-            &plane_points(),
+            &InputPoints::new(&plane_points()),
             &CompleteOptions::default(),
             &MANIFOLD,
         );
@@ -526,7 +509,8 @@ mod tests {
     #[test]
     fn no_face_spans_where_the_input_has_no_points() {
         let (points, opts) = gapped_points();
-        let (mesh, _) = complete_surface(&grid(vec![]), &points, &opts, &MANIFOLD);
+        let (mesh, _) =
+            complete_surface(&grid(vec![]), &InputPoints::new(&points), &opts, &MANIFOLD);
         assert!(mesh.faces.len() >= 16);
         for f in &mesh.faces {
             let xs = f.map(|v| mesh.positions[v as usize].x);
@@ -540,7 +524,12 @@ mod tests {
     fn a_model_face_across_the_gap_is_dropped() {
         let (points, opts) = gapped_points();
         // Vertices 1, 3 (x = -0.4, 0.4) and 8 (x = 0.4): a shard spanning the gap.
-        let (mesh, r) = complete_surface(&grid(vec![[1, 3, 8]]), &points, &opts, &MANIFOLD);
+        let (mesh, r) = complete_surface(
+            &grid(vec![[1, 3, 8]]),
+            &InputPoints::new(&points),
+            &opts,
+            &MANIFOLD,
+        );
         assert_eq!(r.off_surface, 1);
         assert!(!mesh.faces.iter().any(|f| sorted_face(*f) == [1, 3, 8]));
     }
@@ -552,8 +541,13 @@ mod tests {
             enabled: false,
             ..Default::default()
         };
-        let (a, _) = complete_surface(&model, &plane_points(), &off, &MANIFOLD);
-        let (b, _) = complete_surface(&model, &[], &CompleteOptions::default(), &MANIFOLD);
+        let (a, _) = complete_surface(&model, &InputPoints::new(&plane_points()), &off, &MANIFOLD);
+        let (b, _) = complete_surface(
+            &model,
+            &InputPoints::new(&[]),
+            &CompleteOptions::default(),
+            &MANIFOLD,
+        );
         assert_eq!((a, b), (model.clone(), model));
     }
 

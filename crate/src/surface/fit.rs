@@ -28,12 +28,12 @@ use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
 use rstar::RTree;
-use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::extract::manifold::{FOLD_COS, unit_normal};
 use crate::geometry::topology::Edge;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
+use crate::surface::input::{Indexed, InputPoints};
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -81,28 +81,13 @@ pub struct FitReport {
     pub mean_distance_after: f32,
 }
 
-/// A point of an R-tree with its index in the list it came from.
-pub(crate) type Indexed = GeomWithData<[f32; 3], u32>;
-
-/// An R-tree over the finite ones of `points`, each carrying its index.
-pub(crate) fn finite_point_tree(points: &[Vec3]) -> RTree<Indexed> {
-    RTree::bulk_load(
-        points
-            .iter()
-            .enumerate()
-            .filter(|(_, p)| p.is_finite())
-            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
-            .collect(),
-    )
-}
-
-/// Moves the vertices of `positions` (faces or not) onto the surface sampled by `points`
-/// (see the module documentation). Non-finite points are ignored; with no finite point, no
-/// face or no iteration nothing moves.
+/// Moves the vertices of `positions` (faces or not) onto the surface sampled by the input
+/// `points` (see the module documentation). With no finite point, no face or no iteration
+/// nothing moves.
 pub fn fit_to_points(
     positions: &mut [Vec3],
     faces: &[[u32; 3]],
-    points: &[Vec3],
+    points: &InputPoints,
     opts: &FitOptions,
 ) -> FitReport {
     let vertices = positions.len();
@@ -112,7 +97,7 @@ pub fn fit_to_points(
             ..FitReport::default()
         };
     }
-    let tree = finite_point_tree(points);
+    let tree = points.tree();
     let mut report = FitReport {
         vertices,
         ..FitReport::default()
@@ -147,7 +132,7 @@ pub fn fit_to_points(
                     around.iter().map(|&j| before[j as usize]).sum::<Vec3>() / around.len() as f32;
                 *p + (centroid - *p) * opts.smoothing
             };
-            *p = project(start, &tree, k);
+            *p = project(start, tree, k);
         }
         report.held_back = hold_back_folds(positions, &before, faces, &pairs);
         report.iterations += 1;
@@ -305,7 +290,12 @@ mod tests {
         let points = grid_points(|_, _| 0.0);
         let (mut positions, faces) = square(|k| 0.05 * (k % 3) as f32 - 0.03);
         let xy: Vec<_> = positions.iter().map(|p| (p.x, p.y)).collect();
-        let report = fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
+        let report = fit_to_points(
+            &mut positions,
+            &faces,
+            &InputPoints::new(&points),
+            &FitOptions::default(),
+        );
         assert_eq!(report.vertices, 9);
         assert_eq!(report.held_back, 0);
         assert!(report.mean_distance_before > 0.02);
@@ -325,12 +315,17 @@ mod tests {
         let (mut crowded, faces) = square(|k| if k == 4 { 0.04 } else { 0.0 });
         crowded[4] = Vec3::new(-0.35, -0.35, 0.04);
         let mut plain = crowded.clone();
-        fit_to_points(&mut plain, &faces, &points, &FitOptions::default());
+        fit_to_points(
+            &mut plain,
+            &faces,
+            &InputPoints::new(&points),
+            &FitOptions::default(),
+        );
         let smooth = FitOptions {
             smoothing: 0.5,
             ..FitOptions::default()
         };
-        let report = fit_to_points(&mut crowded, &faces, &points, &smooth);
+        let report = fit_to_points(&mut crowded, &faces, &InputPoints::new(&points), &smooth);
         assert_eq!(report.held_back, 0);
         assert!(crowded[4].z.abs() < 1e-5 && plain[4].z.abs() < 1e-5);
         assert!((plain[4].x + 0.35).abs() < 1e-5, "{}", plain[4]);
@@ -354,7 +349,12 @@ mod tests {
                 (0..=40).map(move |j| Vec3::new(0.6, i as f32 / 20.0 - 1.0, j as f32 / 20.0 - 1.0))
             })
             .collect();
-        fit_to_points(&mut positions, &faces, &points, &FitOptions::default());
+        fit_to_points(
+            &mut positions,
+            &faces,
+            &InputPoints::new(&points),
+            &FitOptions::default(),
+        );
         for (f, &face) in faces.iter().enumerate() {
             let n = unit_normal(&positions, face);
             assert!(
@@ -371,13 +371,28 @@ mod tests {
     fn no_points_or_no_iterations_leave_the_mesh_alone() {
         let (mut positions, faces) = square(|k| k as f32 * 0.01);
         let original = positions.clone();
-        fit_to_points(&mut positions, &faces, &[], &FitOptions::default());
+        fit_to_points(
+            &mut positions,
+            &faces,
+            &InputPoints::new(&[]),
+            &FitOptions::default(),
+        );
         assert_eq!(positions, original);
         let points = grid_points(|_, _| 0.0);
-        fit_to_points(&mut positions, &faces, &points, &FitOptions::OFF);
+        fit_to_points(
+            &mut positions,
+            &faces,
+            &InputPoints::new(&points),
+            &FitOptions::OFF,
+        );
         assert_eq!(positions, original);
         let nan = vec![Vec3::NAN; 10];
-        fit_to_points(&mut positions, &faces, &nan, &FitOptions::default());
+        fit_to_points(
+            &mut positions,
+            &faces,
+            &InputPoints::new(&nan),
+            &FitOptions::default(),
+        );
         assert_eq!(positions, original);
     }
 

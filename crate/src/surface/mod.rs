@@ -6,4 +6,5 @@
 pub mod close;
 pub mod complete;
 pub mod fit;
+pub mod input;
 pub mod sharpen;

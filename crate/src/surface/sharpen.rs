@@ -54,13 +54,13 @@ use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
 use crate::geometry::topology::{degenerate_faces, edges};
-use crate::geometry::triangle::{closest_point_weights, point_triangle_distance};
+use crate::geometry::triangle::{
+    Ball, closest_point_weights, nearest_triangle, point_triangle_distance,
+};
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
-use crate::surface::complete::point_spacing;
-use crate::surface::fit::{
-    Indexed, face_pairs, finite_point_tree, hold_back_folds, least_spread_direction,
-};
+use crate::surface::fit::{face_pairs, hold_back_folds, least_spread_direction};
+use crate::surface::input::{Indexed, finite_point_tree, point_spacing};
 
 /// Options of [`sharpen`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -844,18 +844,18 @@ const COVER_TOLERANCES: f64 = 4.0;
 /// stays near the input; this asks whether the input stays near the mesh (the distance from
 /// the points to the mesh of Hoppe et al.'s mesh optimisation, as a guard), so that a thin
 /// part (a table's leg, a fin) is not collapsed into the surface beside it.
-struct Coverage {
-    points: Vec<DVec3>,
+struct Coverage<'p> {
+    points: &'p [DVec3],
     of_face: Vec<Vec<u32>>,
     /// Each point's distance from its face at the start, and now.
     start: Vec<f64>,
     now: Vec<f64>,
 }
 
-impl Coverage {
-    fn new(m: &EditMesh, points: &[DVec3]) -> Self {
+impl<'p> Coverage<'p> {
+    fn new(m: &EditMesh, points: &'p [DVec3]) -> Self {
         let mut c = Coverage {
-            points: points.to_vec(),
+            points,
             of_face: Vec::new(),
             start: Vec::new(),
             now: Vec::new(),
@@ -877,12 +877,37 @@ impl Coverage {
             return;
         }
         let tree = RTree::bulk_load(live);
+        let bounded: Vec<Option<([DVec3; 3], Ball)>> = m
+            .faces
+            .iter()
+            .map(|f| {
+                f.map(|f| {
+                    let t = m.corners(f);
+                    (t, Ball::around(t))
+                })
+            })
+            .collect();
         let nearest = map_in_parallel(self.points.iter().collect(), |_, &x| {
-            tree.nearest_neighbor_iter(x.to_array())
+            // The faces of the 3 nearest vertices, each once (a repeat never wins: the
+            // first of equals does).
+            let mut seen: Vec<u32> = Vec::with_capacity(24);
+            let faces = tree
+                .nearest_neighbor_iter(x.to_array())
                 .take(3)
                 .flat_map(|v| m.faces_of(v.data).iter().copied())
-                .map(|f| (face_distance(m, f, x), f))
-                .min_by(|p, q| p.0.total_cmp(&q.0))
+                .filter(|f| {
+                    let new = !seen.contains(f);
+                    if new {
+                        seen.push(*f);
+                    }
+                    new
+                })
+                .map(|f| {
+                    let (t, ball) = bounded[f as usize].expect("live");
+                    (f, t, ball)
+                })
+                .collect::<Vec<_>>();
+            nearest_triangle(x, &faces, None)
         });
         for (i, n) in nearest.into_iter().enumerate() {
             if let Some((d, f)) = n {
@@ -904,10 +929,13 @@ impl Coverage {
             }
         };
         let removed = |f: &[u32; 3]| f.contains(&a) && f.contains(&b);
-        let fan: Vec<[DVec3; 3]> = around()
+        let fan: Vec<([DVec3; 3], Ball)> = around()
             .map(|&f| m.faces[f as usize].expect("live"))
             .filter(|f| !removed(f))
-            .map(|f| f.map(at))
+            .map(|f| {
+                let t = f.map(at);
+                (t, Ball::around(t))
+            })
             .collect();
         // A face's point moves with it, to the same weights on the moved face, by at most the
         // farther end's move: a point that cannot pass its limit that way needs no measuring.
@@ -942,44 +970,43 @@ impl Coverage {
                         return false;
                     }
                 }
-                let d = fan
-                    .iter()
-                    .map(|&t| point_triangle_distance(y, t))
-                    .fold(f64::INFINITY, f64::min);
-                d > limit
+                // No face of the fan within the limit (a face whose ball is beyond it is not).
+                !fan.iter().any(|&(t, ball)| {
+                    ball.distance_at_least(y) <= limit && point_triangle_distance(y, t) <= limit
+                })
             })
         })
     }
 
-    /// The points of the faces around `(a, b)`, before they collapse.
-    fn take(&mut self, m: &EditMesh, a: u32, b: u32) -> Vec<u32> {
+    /// The points of the faces around `(a, b)`, before they collapse, each with its face.
+    fn take(&mut self, m: &EditMesh, a: u32, b: u32) -> Vec<(u32, u32)> {
         let mut moved = Vec::new();
         for &f in m.faces_of(a).iter().chain(m.faces_of(b)) {
-            moved.append(&mut self.of_face[f as usize]);
+            moved.extend(self.of_face[f as usize].drain(..).map(|p| (p, f)));
         }
         moved
     }
 
-    /// `moved` points, each to its nearest face around the surviving vertex `a`.
-    fn give(&mut self, m: &EditMesh, a: u32, moved: Vec<u32>) {
-        for p in moved {
+    /// `moved` points, each to its nearest face around the surviving vertex `a` (its own face,
+    /// where it survived, measured first: most points stay on it).
+    fn give(&mut self, m: &EditMesh, a: u32, moved: Vec<(u32, u32)>) {
+        let fan: Vec<(u32, [DVec3; 3], Ball)> = m
+            .faces_of(a)
+            .iter()
+            .map(|&f| {
+                let t = m.corners(m.faces[f as usize].expect("live"));
+                (f, t, Ball::around(t))
+            })
+            .collect();
+        for (p, was) in moved {
             let y = self.points[p as usize];
-            if let Some((d, f)) = m
-                .faces_of(a)
-                .iter()
-                .map(|&f| (face_distance(m, f, y), f))
-                .min_by(|u, v| u.0.total_cmp(&v.0))
-            {
+            let guess = fan.iter().position(|&(f, _, _)| f == was);
+            if let Some((d, f)) = nearest_triangle(y, &fan, guess) {
                 self.of_face[f as usize].push(p);
                 self.now[p as usize] = d;
             }
         }
     }
-}
-
-/// Distance from `x` to the live face `f` of `m`.
-fn face_distance(m: &EditMesh, f: u32, x: DVec3) -> f64 {
-    point_triangle_distance(x, m.corners(m.faces[f as usize].expect("live")))
 }
 
 /// Whether collapsing `(a, b)` to `x` would leave a face around them whose centroid or edge
