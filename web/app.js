@@ -78,6 +78,7 @@ function showStats(report) {
     ['non-manifold edges', topo.non_manifold_edges],
     ['inconsistent winding', topo.inconsistent_winding_edges],
     ['degenerate faces', topo.degenerate_faces],
+    ['folded edges', topo.folded_edges],
     ['condition', fmt(t.condition_s)],
     ['sample', fmt(t.sample_s)],
     ['decode', fmt(t.decode_s)],

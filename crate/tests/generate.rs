@@ -342,6 +342,47 @@ fn progress_is_reported_and_cancellation_stops_between_steps() {
 }
 
 #[test]
+fn awkward_inputs_give_clean_meshes() {
+    // Points all on one plane (a card), all on one line, and a sphere with a few far
+    // outliers: each gives a manifold, consistently wound mesh without degenerate faces,
+    // never a panic or a hang. Folded edges (`TopologyReport::folded_edges`) are not yet ruled
+    // out: the card comes back as a closed mesh flattened onto its plane, its two sides back
+    // to back at the rim.
+    let m = models();
+    let mut rng = meshflow::rng::Rng::new(11);
+    let mut unit = || rng.next_f32() * 2.0 - 1.0;
+    let card: Vec<Vec3> = (0..2048)
+        .map(|_| Vec3::new(unit(), 0.6 * unit(), 0.0))
+        .collect();
+    let line: Vec<Vec3> = (0..1024).map(|_| Vec3::new(unit(), 0.0, 0.0)).collect();
+    let mut outliers = sphere_points(1.0, Vec3::ZERO);
+    outliers.extend([Vec3::splat(40.0), Vec3::new(-30.0, 5.0, 0.0)]);
+    let opts = GenerateOptions {
+        vertices: None,
+        samples: 2,
+        ..options(4)
+    };
+    for (name, points) in [("card", card), ("line", line), ("outliers", outliers)] {
+        let out = m
+            .generator()
+            .generate(&[points], &opts, &mut |_, _| true)
+            .unwrap_or_else(|e| panic!("{name}: {e}"));
+        let g = &out[0];
+        g.mesh.validate().unwrap();
+        let t = &g.topology;
+        assert_eq!(
+            (
+                t.non_manifold_edges,
+                t.inconsistent_winding_edges,
+                t.degenerate_faces
+            ),
+            (0, 0, 0),
+            "{name}: {t:?}"
+        );
+    }
+}
+
+#[test]
 fn bad_inputs_are_typed_errors() {
     let m = models();
     let generator = m.generator();

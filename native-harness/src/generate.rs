@@ -439,7 +439,7 @@ fn report(
     }
     println!(
         "  {} vertices, {} faces, {} components; {} boundary edges, {} holes, {} non-manifold \
-         edges, {} inconsistent winding, {} degenerate faces",
+         edges, {} inconsistent winding, {} degenerate faces, {} folded edges",
         topo.vertices,
         topo.faces,
         topo.components,
@@ -447,7 +447,8 @@ fn report(
         topo.holes,
         topo.non_manifold_edges,
         topo.inconsistent_winding_edges,
-        topo.degenerate_faces
+        topo.degenerate_faces,
+        topo.folded_edges
     );
     Ok(())
 }

@@ -18,6 +18,8 @@ export interface TopologyReport {
   holes: number;
   inconsistent_winding_edges: number;
   degenerate_faces: number;
+  /** Edges whose two faces fold back onto each other (normals over about 143 degrees apart). */
+  folded_edges: number;
   components: number;
   isolated_vertices: number;
 }
