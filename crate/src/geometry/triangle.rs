@@ -114,6 +114,7 @@ fn closest_point(x: DVec3, [a, b, c]: [DVec3; 3]) -> (DVec3, [f64; 3]) {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::rng::Rng;
 
     #[test]
     fn point_triangle_distance_regions() {
@@ -137,13 +138,8 @@ mod tests {
     #[test]
     fn a_triangles_ball_never_passes_its_distance() {
         // Deterministic pseudo-random triangles and points, near and far, flat and thin.
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
+        let mut next = || rng.next_f64() * 2.0 - 1.0;
         for i in 0..20_000 {
             let scale = if i % 2 == 0 { 1.0 } else { 1e-3 };
             let mut v = || DVec3::new(next(), next(), next()) * scale;
@@ -165,13 +161,8 @@ mod tests {
 
     #[test]
     fn the_nearest_triangle_is_the_first_of_the_nearest_as_measuring_all() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
-        };
+        let mut rng = Rng::new(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_f64() * 2.0 - 1.0;
         for _ in 0..2_000 {
             let mut tris: Vec<[DVec3; 3]> = (0..8)
                 .map(|_| {
