@@ -72,7 +72,8 @@ enum EvalCommand {
     Vae(vae_eval::EvalVaeArgs),
     /// Generation from surface samples of a split (or a folder of meshes): CD/HD x100 and
     /// topology beside the VAE's reconstruction and an optional Poisson + QEM baseline.
-    Generate(generate::EvalGenerateArgs),
+    // Boxed: its many pipeline options make it several times the size of the others.
+    Generate(Box<generate::EvalGenerateArgs>),
     /// Fits the default vertex-budget rule on a split and reports how well it predicts the
     /// meshes' vertex counts.
     Budget(generate::EvalBudgetArgs),
@@ -122,7 +123,7 @@ fn main() -> ExitCode {
         Command::Generate(args) => generate::generate(args),
         Command::Reconstruct(args) => vae_eval::reconstruct(args),
         Command::Eval(EvalCommand::Vae(args)) => vae_eval::eval_vae(args),
-        Command::Eval(EvalCommand::Generate(args)) => generate::eval_generate(args),
+        Command::Eval(EvalCommand::Generate(args)) => generate::eval_generate(*args),
         Command::Eval(EvalCommand::Budget(args)) => generate::eval_budget(args),
         Command::Verify(args) => verify::run(args),
         Command::Train(which) => train::run(which),

@@ -98,7 +98,7 @@ impl std::fmt::Display for GenerationEvalReport {
                 f,
                 "  {what:<16} CD x100 {:7.3}  HD x100 {:7.3}  NC {:.4}  ECD x100 {:7.3}  EF1 \
                  {:.4}  faces {:7.1} ({:.2}x gt)  holes {:6.2}  non-manifold {:6.2}  \
-                 components {:6.2}  no faces {}",
+                 folded {:6.2} (in {})  components {:6.2}  no faces {}",
                 s.chamfer_x100,
                 s.hausdorff_x100,
                 s.normal_consistency,
@@ -108,6 +108,8 @@ impl std::fmt::Display for GenerationEvalReport {
                 s.faces_ratio,
                 s.holes,
                 s.non_manifold_edges,
+                s.folded_edges,
+                s.folded_meshes,
                 s.components,
                 s.no_faces
             )

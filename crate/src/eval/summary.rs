@@ -38,6 +38,11 @@ pub struct SurfaceSummary {
     pub holes: f64,
     pub inconsistent_winding_edges: f64,
     pub degenerate_faces: f64,
+    /// Folded edges (two faces doubled back onto each other,
+    /// [`crate::geometry::topology::TopologyReport::folded_edges`]) per mesh, and the meshes
+    /// with any.
+    pub folded_edges: f64,
+    pub folded_meshes: usize,
     pub components: f64,
     /// The ground truths' own holes and components (artist meshes are often open and in
     /// pieces), the yardstick for the two above.
@@ -93,6 +98,11 @@ impl SurfaceSummary {
                 c.pred_topology.inconsistent_winding_edges as f64
             }),
             degenerate_faces: mean(&|c| c.pred_topology.degenerate_faces as f64),
+            folded_edges: mean(&|c| c.pred_topology.folded_edges as f64),
+            folded_meshes: surfaces
+                .iter()
+                .filter(|c| c.pred_topology.folded_edges > 0)
+                .count(),
             components: mean(&|c| c.pred_topology.components as f64),
             gt_holes: mean(&|c| c.gt_topology.holes as f64),
             gt_components: mean(&|c| c.gt_topology.components as f64),
