@@ -238,7 +238,7 @@ proptest! {
     fn closing_holes_keeps_the_surface_manifold_and_consistently_wound(
         kind in 0u8..2, size in 1u32..4, jitter in 0.0f32..0.1, delete in 0u64..90,
         gap in 0.0f32..10.0, max_edges in 0usize..12, with_points in any::<bool>(),
-        seed in any::<u64>()
+        max_cut_faces in 0usize..8, seed in any::<u64>()
     ) {
         // A consistently wound mesh with holes, closed against points sampled from the whole
         // mesh (or without points: every loop closed that can be).
@@ -251,7 +251,9 @@ proptest! {
         let mut holed = random_mesh(kind, size, jitter, delete, seed);
         holed.normals = vertex_normals(&holed.positions, &whole.faces);
         let before = TopologyReport::of(&holed);
-        let opts = meshflow::surface::close::CloseOptions { enabled: true, max_edges, max_gap: gap };
+        let opts = meshflow::surface::close::CloseOptions {
+            enabled: true, max_edges, max_gap: gap, max_cut_faces,
+        };
         let mut out = holed.clone();
         let r = meshflow::surface::close::close_holes(&mut out, &InputPoints::new(&points), &opts);
         let t = TopologyReport::of(&out);
@@ -259,6 +261,7 @@ proptest! {
         prop_assert_eq!(t.non_manifold_edges, 0);
         prop_assert_eq!(t.inconsistent_winding_edges, 0);
         prop_assert_eq!(t.degenerate_faces, before.degenerate_faces);
+        prop_assert!(t.folded_edges <= before.folded_edges, "{before:?} -> {t:?}");
         // Closing only removes boundary: fewer (or as many) boundary edges and directed loops.
         prop_assert!(t.boundary_edges <= before.boundary_edges);
         prop_assert!(hole_loops(&out.faces).len() <= hole_loops(&holed.faces).len());
@@ -268,10 +271,15 @@ proptest! {
         if !loops_meet_at_a_vertex(&holed.faces) {
             prop_assert!(t.holes <= before.holes);
         }
-        // Only added: the old faces and vertices stay, in order.
-        prop_assert_eq!(&out.faces[..holed.faces.len()], &holed.faces[..]);
+        prop_assert!(t.components <= before.components);
+        // Only added, but for the faces cut: the old vertices stay, in order, and without cuts
+        // the old faces too.
+        if r.faces_cut == 0 {
+            prop_assert_eq!(&out.faces[..holed.faces.len()], &holed.faces[..]);
+        }
         prop_assert_eq!(&out.positions[..holed.positions.len()], &holed.positions[..]);
-        prop_assert_eq!(out.faces.len(), holed.faces.len() + r.faces_added);
+        prop_assert_eq!(out.faces.len() + r.faces_cut, holed.faces.len() + r.faces_added);
+        prop_assert_eq!(r.holes_left, hole_loops(&out.faces).len());
         prop_assert_eq!(out.positions.len(), holed.positions.len() + r.vertices_added);
         prop_assert_eq!(out.normals.len(), out.positions.len());
     }

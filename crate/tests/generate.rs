@@ -344,10 +344,10 @@ fn progress_is_reported_and_cancellation_stops_between_steps() {
 #[test]
 fn awkward_inputs_give_clean_meshes() {
     // Points all on one plane (a card), all on one line, and a sphere with a few far
-    // outliers: each gives a manifold, consistently wound mesh without degenerate faces,
-    // never a panic or a hang. Folded edges (`TopologyReport::folded_edges`) are not yet ruled
-    // out: the card comes back as a closed mesh flattened onto its plane, its two sides back
-    // to back at the rim.
+    // outliers: each gives a manifold, consistently wound mesh without degenerate faces or
+    // folded edges (`TopologyReport::folded_edges`: the card no longer comes back as a closed
+    // mesh flattened onto its plane, its two sides back to back at the rim), never a panic or
+    // a hang.
     let m = models();
     let mut rng = meshflow::rng::Rng::new(11);
     let mut unit = || rng.next_f32() * 2.0 - 1.0;
@@ -374,9 +374,10 @@ fn awkward_inputs_give_clean_meshes() {
             (
                 t.non_manifold_edges,
                 t.inconsistent_winding_edges,
-                t.degenerate_faces
+                t.degenerate_faces,
+                t.folded_edges
             ),
-            (0, 0, 0),
+            (0, 0, 0, 0),
             "{name}: {t:?}"
         );
     }
@@ -596,7 +597,7 @@ fn fitting_puts_the_vertices_on_the_input_and_can_be_turned_off() {
     assert!(closed.topology.holes <= open.topology.holes);
     assert_eq!(
         closed.mesh.faces.len(),
-        open.mesh.faces.len() + closed.close.faces_added
+        open.mesh.faces.len() + closed.close.faces_added - closed.close.faces_cut
     );
     // Sharpening keeps the holes it was given.
     assert_eq!(sharpened.topology.holes, closed.topology.holes);

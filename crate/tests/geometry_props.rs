@@ -1,8 +1,10 @@
-//! Property tests of the geometry core: normals, cleaning, voxels, vertex order and tokens.
+//! Property tests of the geometry core: normals, cleaning, voxels, vertex order, tokens and
+//! the guarded edits.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
 use meshflow::Mesh;
 use meshflow::geometry::clean::{CleanOptions, clean};
+use meshflow::geometry::edit::EditMesh;
 use meshflow::geometry::normals::{face_normal, vertex_normals};
 use meshflow::geometry::primitives::{cube, grid, icosphere};
 use meshflow::geometry::topology;
@@ -76,7 +78,49 @@ fn explode(m: &Mesh, seed: u64) -> Mesh {
     out
 }
 
+/// The topology report of an edit mesh's live faces.
+fn edited_report(e: &EditMesh) -> topology::TopologyReport {
+    let (p, f, _) = e.compacted();
+    topology::TopologyReport::of(&Mesh::new(p.iter().map(|p| p.as_vec3()).collect(), f))
+}
+
 proptest! {
+    /// Flips and collapses on a crumpled sphere (each vertex pushed up to 0.6 of the radius),
+    /// with no turn limit on the collapses so that only the fold guard stands between two
+    /// faces and doubling over: no edit leaves more folded edges than the mesh had, and the
+    /// mesh stays closed and manifold.
+    #[test]
+    fn guarded_edits_add_no_folded_edges(
+        push in prop::collection::vec(point(), 42),
+        edits in prop::collection::vec((0usize..1000, any::<bool>()), 1..80),
+    ) {
+        let sphere = icosphere(1);
+        let positions: Vec<DVec3> = (sphere.positions.iter().zip(&push))
+            .map(|(p, d)| (*p + *d * 0.6).as_dvec3())
+            .collect();
+        let mut e = EditMesh::new(positions, &sphere.faces);
+        let mut folded = edited_report(&e).folded_edges;
+        for (pick, flip) in edits {
+            let edges = e.edges();
+            let [a, b] = edges[pick % edges.len()];
+            if flip {
+                let Some((c, d)) = e.flippable(a, b) else { continue };
+                e.flip(a, b, c, d);
+            } else {
+                let x = (e.positions[a as usize] + e.positions[b as usize]) * 0.5;
+                if !e.can_collapse(a, b, x, -1.0) {
+                    continue;
+                }
+                e.collapse(a, b, x);
+            }
+            let r = edited_report(&e);
+            prop_assert!(r.folded_edges <= folded, "{folded} -> {r:?}");
+            prop_assert_eq!((r.non_manifold_edges, r.boundary_edges), (0, 0));
+            prop_assert_eq!(r.inconsistent_winding_edges, 0);
+            folded = r.folded_edges;
+        }
+    }
+
     #[test]
     fn normals_are_unit(m in soup()) {
         let scale = m.aabb().unwrap().max_extent();

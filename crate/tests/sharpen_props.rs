@@ -77,6 +77,7 @@ proptest! {
         prop_assert_eq!(t.inconsistent_winding_edges, 0);
         prop_assert_eq!(t.degenerate_faces, 0);
         prop_assert_eq!(t.holes, before.holes);
+        prop_assert!(t.folded_edges <= before.folded_edges, "{before:?} -> {t:?}");
         // Down to the faces it came with, unless the coverage guard keeps more where the
         // points need them; never more than its splits made.
         prop_assert!(t.faces > 0 && t.faces <= report.refined_faces.max(before.faces), "{:?}", report);

@@ -161,6 +161,10 @@ pub struct SamplingArgs {
     /// this many point spacings (0 = no test).
     #[arg(long, default_value_t = CloseOptions::default().max_gap)]
     close_max_gap: f32,
+    /// Hole closing: cut at most this many faces to close a loop whose patch would fold onto
+    /// them, closing the larger loop instead (0 = no cuts).
+    #[arg(long, default_value_t = CloseOptions::default().max_cut_faces)]
+    close_max_cut: usize,
     /// Leave the surface as fitted: do not sharpen it against the input points' planes
     /// (creases snapped, flat regions merged into few faces; manifold extraction only).
     #[arg(long)]
@@ -235,6 +239,7 @@ impl SamplingArgs {
                 enabled: !self.no_close_holes,
                 max_edges: self.close_max_edges,
                 max_gap: self.close_max_gap,
+                max_cut_faces: self.close_max_cut,
             },
             sharpen: SharpenOptions {
                 enabled: !self.no_sharpen,
@@ -428,8 +433,13 @@ fn report(
     }
     let c = &g.close;
     if c.holes_closed + c.holes_left > 0 {
+        let cut = if c.faces_cut > 0 {
+            format!(", {} cut from folded rims", c.faces_cut)
+        } else {
+            String::new()
+        };
         println!(
-            "  holes closed: {} ({} faces, {} vertices added; --no-close-holes keeps them \
+            "  holes closed: {} ({} faces, {} vertices added{cut}; --no-close-holes keeps them \
              open)",
             c.holes_closed, c.faces_added, c.vertices_added
         );

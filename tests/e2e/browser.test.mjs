@@ -646,7 +646,10 @@ await check('the npm package imports and generates the way a user would', async 
            try { await model.generate(points, { ...options, samples: 0 }); } catch (e) { badSamples = e.message; }
            window.__options = { both, tooFew, solver: { heunFaces: heun.indices.length / 3, badSolver }, rawFaces: raw.indices.length / 3, fitS: mesh.report.times.fit_s,
              samples: { keptIs, candidates, faces: best.indices.length / 3, badSamples, byDefault: byDefault.report.samples },
-             holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose },
+             holes: { closed: mesh.report.topology.holes, open: open.report.topology.holes, badClose,
+               tried: mesh.report.close.holes_closed + mesh.report.close.holes_left,
+               triedWhenOff: open.report.close.holes_closed + open.report.close.holes_left,
+               folded: mesh.report.topology.folded_edges },
              sharpen: { faces: sharp.indices.length / 3, nonManifold: sharp.report.topology.non_manifold_edges,
                inconsistent: sharp.report.topology.inconsistent_winding_edges, holes: sharp.report.topology.holes,
                refined: sharp.report.sharpen.refined_faces, badSharpen },
@@ -742,8 +745,11 @@ await check('the npm package imports and generates the way a user would', async 
   assert(/vertices or for faces, not both/.test(o.both), `vertices with faces was not refused: ${o.both}`);
   assert(/has 10 points; at least 16/.test(o.tooFew), `10 points were not refused: ${o.tooFew}`);
   assert(o.rawFaces > 0 && o.fitS >= 0, `fit: false: ${JSON.stringify(o)}`);
-  // Hole closing is on by default and can be turned off; a non-boolean is a TypeError.
-  assert(o.holes.open > o.holes.closed, `closeHoles: false left no more holes: ${JSON.stringify(o.holes)}`);
+  // Hole closing is on by default and can be turned off; a non-boolean is a TypeError. It
+  // never opens a hole nor folds a patch over a rim (on this one-candidate lantern every
+  // patch would, so the count may stay as it was).
+  assert(o.holes.tried > 0 && o.holes.triedWhenOff === 0 && o.holes.closed <= o.holes.open && o.holes.folded === 0,
+    `closeHoles: ${JSON.stringify(o.holes)}`);
   assert(/closeHoles must be true or false/.test(o.holes.badClose), `closeHoles: 'no' was not refused: ${o.holes.badClose}`);
   // Sharpening runs inside wasm too, keeps the mesh manifold and opens no hole (here two of
   // the lantern's 17 boundary loops become one, natively too).

@@ -33,8 +33,8 @@ export interface GenerateReport {
   times: StageTimes;
   topology: TopologyReport;
   extract: Record<string, number>;
-  /** Holes closed by `closeHoles`, the faces and vertices that added, and holes left open as its walk counts them (`topology.holes` is the figure to report). */
-  close: { holes_closed: number; faces_added: number; vertices_added: number; holes_left: number };
+  /** Holes closed by `closeHoles`, the faces and vertices that added, holes left open as its walk counts them (`topology.holes` is the figure to report), and faces cut where a patch would have folded onto them. */
+  close: { holes_closed: number; faces_added: number; vertices_added: number; holes_left: number; faces_cut: number };
   /** What sharpening did: faces in and out, splits, flips, collapses, crease and corner vertices. */
   sharpen: Record<string, number>;
 }

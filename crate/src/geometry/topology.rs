@@ -13,13 +13,14 @@ use crate::geometry::disjoint_sets::DisjointSets;
 /// An undirected edge as a sorted pair `[i, j]` with `i < j`.
 pub type Edge = [u32; 2];
 
-fn sorted(a: u32, b: u32) -> Edge {
+/// The edge between `a` and `b` as an [`Edge`].
+pub fn sorted_edge(a: u32, b: u32) -> Edge {
     if a < b { [a, b] } else { [b, a] }
 }
 
 /// The three undirected edges of a triangle.
 pub fn face_edges([a, b, c]: [u32; 3]) -> [Edge; 3] {
-    [sorted(a, b), sorted(b, c), sorted(c, a)]
+    [sorted_edge(a, b), sorted_edge(b, c), sorted_edge(c, a)]
 }
 
 /// One face's use of an undirected edge: which face, and whether the face walks the edge from
@@ -54,7 +55,7 @@ impl EdgeIncidence {
             for k in 0..3 {
                 let (a, b) = (face[k], face[(k + 1) % 3]);
                 sides.push((
-                    sorted(a, b),
+                    sorted_edge(a, b),
                     EdgeUse {
                         face: f as u32,
                         forward: a < b,
@@ -118,7 +119,7 @@ pub fn canonical_edges(edges: &[Edge]) -> Vec<Edge> {
     let mut out: Vec<Edge> = edges
         .iter()
         .filter(|e| e[0] != e[1])
-        .map(|&[a, b]| sorted(a, b))
+        .map(|&[a, b]| sorted_edge(a, b))
         .collect();
     out.sort_unstable();
     out.dedup();
@@ -136,7 +137,13 @@ pub fn edges(faces: &[[u32; 3]]) -> Vec<Edge> {
     let mut edges: Vec<Edge> = faces
         .iter()
         .filter(|f| has_three_vertices(f))
-        .flat_map(|f| [sorted(f[0], f[1]), sorted(f[1], f[2]), sorted(f[2], f[0])])
+        .flat_map(|f| {
+            [
+                sorted_edge(f[0], f[1]),
+                sorted_edge(f[1], f[2]),
+                sorted_edge(f[2], f[0]),
+            ]
+        })
         .collect();
     edges.sort_unstable();
     edges.dedup();
@@ -331,17 +338,25 @@ pub fn degenerate_faces(mesh: &Mesh) -> usize {
         .count()
 }
 
-/// Whether faces `f` and `g` of `mesh` (sharing an edge, consistently wound) fold back onto
-/// each other; a face without area folds with nothing.
-fn folded(mesh: &Mesh, f: u32, g: u32) -> bool {
-    let normal = |f: u32| {
-        let [a, b, c] = mesh.faces[f as usize].map(|v| mesh.positions[v as usize].as_dvec3());
-        (b - a).cross(c - a).normalize_or_zero()
-    };
-    let (n, m) = (normal(f), normal(g));
+/// Whether two faces on one edge, consistently wound, with (unnormalised) normals `n` and
+/// `m`, fold back onto each other: normals more than about 143 degrees apart
+/// ([`crate::extract::manifold::FOLD_COS`]), a sheet doubled over rather than a thin wedge. A
+/// face without area folds with nothing. The one fold test of the crate: the topology report
+/// counts with it, and the edits and patches after extraction refuse what it would count.
+pub fn folds(n: glam::DVec3, m: glam::DVec3) -> bool {
+    let (n, m) = (n.normalize_or_zero(), m.normalize_or_zero());
     n != glam::DVec3::ZERO
         && m != glam::DVec3::ZERO
         && n.dot(m) < f64::from(crate::extract::manifold::FOLD_COS)
+}
+
+/// Whether faces `f` and `g` of `mesh` (sharing an edge, consistently wound) fold ([`folds`]).
+fn folded(mesh: &Mesh, f: u32, g: u32) -> bool {
+    let normal = |f: u32| {
+        let [a, b, c] = mesh.faces[f as usize].map(|v| mesh.positions[v as usize].as_dvec3());
+        (b - a).cross(c - a)
+    };
+    folds(normal(f), normal(g))
 }
 
 /// The topology figures docs/design.md section 3 asks for, for any mesh.

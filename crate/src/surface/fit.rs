@@ -30,8 +30,8 @@ use glam::{DVec3, Vec3};
 use rstar::RTree;
 use serde::{Deserialize, Serialize};
 
-use crate::extract::manifold::{FOLD_COS, unit_normal};
-use crate::geometry::topology::Edge;
+use crate::extract::manifold::unit_normal;
+use crate::geometry::topology::{Edge, folds};
 use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
 use crate::surface::input::{Indexed, InputPoints};
 
@@ -223,8 +223,12 @@ pub(crate) fn hold_back_folds(
             .filter(|&f| new[f] == Vec3::ZERO || new[f].dot(old[f]) <= 0.0)
             .collect();
         bad.extend(pairs.iter().flat_map(|&[f, g]| {
-            let folds = new[f].dot(new[g]) < FOLD_COS && old[f].dot(old[g]) >= FOLD_COS;
-            if folds { vec![f, g] } else { Vec::new() }
+            let fold = |n: &[Vec3]| folds(n[f].as_dvec3(), n[g].as_dvec3());
+            if fold(&new) && !fold(&old) {
+                vec![f, g]
+            } else {
+                Vec::new()
+            }
         }));
         let mut shortened = false;
         for f in bad {

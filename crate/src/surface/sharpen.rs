@@ -37,7 +37,9 @@
 //! the last, so placement and collapses correct what the previous round left.
 //!
 //! The mesh stays manifold with consistent winding; its holes and pieces are kept (no edit
-//! joins two boundaries). The model's mesh decides the pieces, the holes and the rough shape;
+//! joins two boundaries), and no collapse or flip leaves more folded edges around it than
+//! there were. A round is kept only with no more holes, folded edges or faces without area
+//! than the mesh came with. The model's mesh decides the pieces, the holes and the rough shape;
 //! its edges are mostly rebuilt ([`SharpenReport::model_edges_kept`] says how many survive:
 //! 2-9% on the hard-surface set).
 
@@ -53,7 +55,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
-use crate::geometry::topology::{degenerate_faces, edges};
+use crate::geometry::topology::{TopologyReport, edges};
 use crate::geometry::triangle::{
     Ball, closest_point_weights, nearest_triangle, point_triangle_distance,
 };
@@ -522,12 +524,18 @@ pub fn sharpen_judged(
         }
         out
     };
-    // A round whose snaps collapsed a face to no area is never kept (several vertices can
-    // snap onto one corner): the mesh must stay as clean as it came.
-    let degenerate_in = degenerate_faces(mesh);
+    // A round with more faces without area (several vertices can snap onto one corner), more
+    // folded edges (a placement that the hold-back let through) or more holes than the mesh
+    // came with is never kept: the mesh must stay as clean as it came.
+    let clean_as = |t: &TopologyReport, t_in: &TopologyReport| {
+        t.degenerate_faces <= t_in.degenerate_faces
+            && t.folded_edges <= t_in.folded_edges
+            && t.holes <= t_in.holes
+    };
+    let topology_in = TopologyReport::of(mesh);
     let Some((round, judged)) = rounds.iter().enumerate().rev().find_map(|(r, (p, f, _))| {
         let candidate = as_mesh(p, f);
-        (degenerate_faces(&candidate) <= degenerate_in && acceptable(&candidate))
+        (clean_as(&TopologyReport::of(&candidate), &topology_in) && acceptable(&candidate))
             .then_some((r + 1, candidate))
     }) else {
         report.accepted = false;
@@ -1102,7 +1110,6 @@ mod tests {
     use crate::geometry::hard_surface::cuboid;
     use crate::geometry::primitives::{grid, icosphere};
     use crate::geometry::sample::sample_surface;
-    use crate::geometry::topology::TopologyReport;
     use crate::rng::Rng;
 
     /// A blob standing in for the model's mesh of a box: an icosphere drawn most of the way
