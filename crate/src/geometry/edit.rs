@@ -7,8 +7,8 @@
 //! Preserving Edge Contraction", 1999) and may not join two boundaries across an interior edge
 //! or turn a face by more than a limit; a flip may not create an edge that exists or leave a
 //! vertex of degree 2. Neither may leave more folded edges around it than there were (two
-//! neighbouring faces doubled over, [`folds`]): a guard on each face alone lets two faces
-//! close onto each other. Hand-written: the crates that simplify meshes (meshopt) bind C++ that
+//! neighbouring faces doubled over, [`crate::geometry::topology::folds`]): a guard on each
+//! face alone lets two faces close onto each other. Hand-written: the crates that simplify meshes (meshopt) bind C++ that
 //! does not build for the browser module, and none exposes both guarded flips and collapses.
 
 use glam::DVec3;

@@ -101,9 +101,9 @@ pub struct CloseReport {
     pub faces_added: usize,
     pub vertices_added: usize,
     /// Boundary loops open at the end (too long, collinear, off the input surface, folding, or
-    /// the border of a lone triangle), as this walk cuts them: where holes meet at one vertex the directed
-    /// walk may cut them into a different number of loops than the topology report's
-    /// undirected one ([`crate::geometry::topology::TopologyReport::holes`], the figure to
+    /// the border of a lone triangle), as this walk cuts them: where holes meet at one vertex
+    /// the directed walk may cut them into a different number of loops than the topology
+    /// report's undirected one ([`crate::geometry::topology::TopologyReport::holes`], the figure to
     /// report).
     pub holes_left: usize,
     /// Faces cut to close loops whose patches would fold onto them (module documentation,
