@@ -8,8 +8,8 @@
 //! or turn a face by more than a limit; a flip may not create an edge that exists or leave a
 //! vertex of degree 2. Neither may leave more folded edges around it than there were (two
 //! neighbouring faces doubled over, [`crate::geometry::topology::folds`]): a guard on each
-//! face alone lets two faces close onto each other. Hand-written: the crates that simplify meshes (meshopt) bind C++ that
-//! does not build for the browser module, and none exposes both guarded flips and collapses.
+//! face alone lets two faces close onto each other. Hand-written: the crates that simplify
+//! meshes (meshopt) bind C++ that does not build for the browser module, and none exposes both guarded flips and collapses.
 
 use glam::DVec3;
 
@@ -219,7 +219,6 @@ impl EditMesh {
             }
         }
         let near = self.faces_near(&[a, b]);
-        let before: Vec<[u32; 3]> = near.iter().map(|&id| self.face(id)).collect();
         let after: Vec<[u32; 3]> = (near.iter())
             .filter(|&&id| !on_edge(id))
             .map(|&id| self.face(id).map(|v| if v == b { a } else { v }))
@@ -231,8 +230,14 @@ impl EditMesh {
                 self.positions[v as usize]
             }
         };
-        self.folded_among(&after, moved)
-            <= self.folded_among(&before, |v| self.positions[v as usize])
+        !self.folds_more(&near, &after, moved)
+    }
+
+    /// Whether the faces `after` (with the vertices at `at`) that an edit puts in place of the
+    /// faces `near` ([`Self::faces_near`] of the edited vertices) have more folded edges.
+    fn folds_more(&self, near: &[u32], after: &[[u32; 3]], at: impl Fn(u32) -> DVec3) -> bool {
+        let before: Vec<[u32; 3]> = near.iter().map(|&id| self.face(id)).collect();
+        self.folded_among(after, at) > self.folded_among(&before, |v| self.positions[v as usize])
     }
 
     fn face(&self, id: u32) -> [u32; 3] {
@@ -340,13 +345,12 @@ impl EditMesh {
             return None;
         }
         let near = self.faces_near(&[a, b]);
-        let before: Vec<[u32; 3]> = near.iter().map(|&id| self.face(id)).collect();
         let mut after: Vec<[u32; 3]> = (near.iter())
             .filter(|&&id| !e.faces.contains(&id))
             .map(|&id| self.face(id))
             .collect();
         after.extend([[a, d, c], [b, c, d]]);
-        (self.folded_among(&after, p) <= self.folded_among(&before, p)).then_some((c, d))
+        (!self.folds_more(&near, &after, p)).then_some((c, d))
     }
 
     /// Flips `(a, b)` to `(c, d)` (after [`Self::flippable`] gave `(c, d)`): faces
