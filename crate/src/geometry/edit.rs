@@ -85,22 +85,34 @@ impl EditMesh {
     }
 
     fn edge_faces(&self, a: u32, b: u32) -> EdgeFaces {
-        let mut e = EdgeFaces::default();
-        let mut others = Vec::new();
+        // Faces walking a -> b come first, the latest found first, then the others in the
+        // order found; only the first two are kept. Counted in place: this runs for every
+        // edge an edit guard looks at.
+        let (mut forward, mut backward) = ([(0, 0); 2], [(0, 0); 2]);
+        let (mut n_forward, mut n_backward) = (0, 0);
         for &id in &self.vertex_faces[a as usize] {
             let f = self.faces[id as usize].expect("vertex lists hold live faces");
             if let Some(k) = f.iter().position(|&v| v == a) {
                 let (next, prev) = (f[(k + 1) % 3], f[(k + 2) % 3]);
                 if next == b {
-                    // a -> b in this face: it goes first.
-                    others.insert(0, (id, prev));
+                    forward = [(id, prev), forward[0]];
+                    n_forward += 1;
                 } else if prev == b {
-                    others.push((id, next));
+                    if n_backward < 2 {
+                        backward[n_backward] = (id, next);
+                    }
+                    n_backward += 1;
                 }
             }
         }
-        e.count = others.len();
-        for (slot, (id, apex)) in others.into_iter().take(2).enumerate() {
+        let first_two = forward[..n_forward.min(2)]
+            .iter()
+            .chain(&backward[..n_backward.min(2)]);
+        let mut e = EdgeFaces {
+            count: n_forward + n_backward,
+            ..EdgeFaces::default()
+        };
+        for (slot, &(id, apex)) in first_two.take(2).enumerate() {
             e.faces[slot] = id;
             e.apex[slot] = apex;
         }
@@ -311,11 +323,18 @@ impl EditMesh {
         self.positions[a as usize] = x;
     }
 
-    /// The two apexes `(c, d)` of the edge `(a, b)` if it can be flipped to `(c, d)`: two faces,
-    /// no edge `(c, d)` yet, `a` and `b` each keep at least three neighbours, and both new
-    /// faces keep the orientation of the pair (their normals within 90 degrees of the old
-    /// faces' summed normal) with some area, and no more edges around it fold than before.
+    /// The two apexes `(c, d)` of the edge `(a, b)` if it can be flipped to `(c, d)`: the
+    /// edge has two faces, `(a, b, c)` walking a -> b and `(b, a, d)` ([`Self::flip_apexes`]),
+    /// and the flip passes [`Self::flip_keeps_shape`].
     pub fn flippable(&self, a: u32, b: u32) -> Option<(u32, u32)> {
+        let (c, d) = self.flip_apexes(a, b)?;
+        self.flip_keeps_shape(a, b, c, d).then_some((c, d))
+    }
+
+    /// The apexes `(c, d)` of the edge `(a, b)`'s two faces, `(a, b, c)` walking a -> b and
+    /// `(b, a, d)` the other way, if it has exactly those (`c != d`): what a flip would join,
+    /// before asking whether it may ([`Self::flip_keeps_shape`]).
+    pub fn flip_apexes(&self, a: u32, b: u32) -> Option<(u32, u32)> {
         let e = self.edge_faces(a, b);
         if e.count != 2 {
             return None;
@@ -324,14 +343,20 @@ impl EditMesh {
         // The first face walks a -> b; the second must walk b -> a (consistent winding).
         let second = self.faces[e.faces[1] as usize].expect("live");
         let k = second.iter().position(|&v| v == b)?;
-        if second[(k + 1) % 3] != a || c == d {
-            return None;
-        }
+        (second[(k + 1) % 3] == a && c != d).then_some((c, d))
+    }
+
+    /// Whether flipping the edge `(a, b)` of faces `(a, b, c)` and `(b, a, d)` (from
+    /// [`Self::flip_apexes`]) to `(c, d)` keeps the mesh sound: no edge `(c, d)` yet, `a` and
+    /// `b` each keep at least three neighbours, both new faces keep the orientation of the
+    /// pair (their normals within 90 degrees of the old faces' summed normal) with some area,
+    /// and no more edges around it fold than before.
+    pub fn flip_keeps_shape(&self, a: u32, b: u32, c: u32, d: u32) -> bool {
         if self.neighbours(c).binary_search(&d).is_ok()
             || self.neighbours(a).len() <= 3
             || self.neighbours(b).len() <= 3
         {
-            return None;
+            return false;
         }
         let p = |v: u32| self.positions[v as usize];
         let normal = |u: u32, v: u32, w: u32| (p(v) - p(u)).cross(p(w) - p(u));
@@ -342,15 +367,16 @@ impl EditMesh {
             .iter()
             .all(|n| n.length() > 1e-9 * scale && n.dot(old) > 0.0)
         {
-            return None;
+            return false;
         }
+        let e = self.edge_faces(a, b);
         let near = self.faces_near(&[a, b]);
         let mut after: Vec<[u32; 3]> = (near.iter())
             .filter(|&&id| !e.faces.contains(&id))
             .map(|&id| self.face(id))
             .collect();
         after.extend([[a, d, c], [b, c, d]]);
-        (!self.folds_more(&near, &after, p)).then_some((c, d))
+        !self.folds_more(&near, &after, p)
     }
 
     /// Flips `(a, b)` to `(c, d)` (after [`Self::flippable`] gave `(c, d)`): faces

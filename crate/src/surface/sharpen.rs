@@ -637,8 +637,9 @@ fn align_flips(m: &mut EditMesh, planes: &PointPlanes) -> usize {
 /// and `(b, a, d)`) for which `wants([a, b, c, d])` holds, until a pass flips none; returns
 /// the flips made.
 fn flip_passes(m: &mut EditMesh, wants: impl Fn(&EditMesh, [u32; 4]) -> bool + Sync) -> usize {
-    // `flippable` wants the face that walks a -> b first; try the other way.
-    let quad = |m: &EditMesh, [a, b]: [u32; 2]| match (m.flippable(a, b), m.flippable(b, a)) {
+    // `flip_apexes` wants the face that walks a -> b first; try the other way. Its guard
+    // (`flip_keeps_shape`) gives the same answer either way round.
+    let quad = |m: &EditMesh, [a, b]: [u32; 2]| match (m.flip_apexes(a, b), m.flip_apexes(b, a)) {
         (Some((c, d)), _) => Some([a, b, c, d]),
         (None, Some((c, d))) => Some([b, a, c, d]),
         _ => None,
@@ -646,9 +647,11 @@ fn flip_passes(m: &mut EditMesh, wants: impl Fn(&EditMesh, [u32; 4]) -> bool + S
     let mut flips = 0;
     for _ in 0..4 {
         let edges = m.edges();
-        // Flips move no vertex, so an edge's answer depends only on its four vertices: asked
-        // for every edge up front (in parallel where there are threads), and again only for
-        // an edge whose faces an earlier flip of this pass changed. The same flips either way.
+        // Flips move no vertex, so whether a flip is wanted depends only on its four
+        // vertices: asked for every edge up front (in parallel where there are threads), and
+        // again only for an edge whose faces an earlier flip of this pass changed. The guard
+        // looks at the faces around too, which earlier flips change: asked when the flip is
+        // due, and only of the few edges that want one.
         let asked: Vec<Option<([u32; 4], bool)>> = {
             let m = &*m;
             map_in_parallel(edges.clone(), |_, e| quad(m, e).map(|q| (q, wants(m, q))))
@@ -656,12 +659,12 @@ fn flip_passes(m: &mut EditMesh, wants: impl Fn(&EditMesh, [u32; 4]) -> bool + S
         let mut changed = 0;
         for (e, asked) in edges.into_iter().zip(asked) {
             let Some(q) = quad(m, e) else { continue };
-            let flip = match asked {
+            let wanted = match asked {
                 Some((was, answer)) if was == q => answer,
                 _ => wants(m, q),
             };
-            if flip {
-                let [a, b, c, d] = q;
+            let [a, b, c, d] = q;
+            if wanted && m.flip_keeps_shape(a, b, c, d) {
                 m.flip(a, b, c, d);
                 changed += 1;
             }
