@@ -121,6 +121,31 @@ proptest! {
         }
     }
 
+    /// Sharpening's flip passes ask an edge's flip guard in one orientation only: on a
+    /// crumpled sphere, every edge that has a flip's apexes both ways round gets the same
+    /// answer from `flip_keeps_shape` both ways round, and `flippable` agrees with the two
+    /// asked in turn.
+    #[test]
+    fn the_flip_guard_is_the_same_either_way_round(push in prop::collection::vec(point(), 42)) {
+        let sphere = icosphere(1);
+        let positions: Vec<DVec3> = (sphere.positions.iter().zip(&push))
+            .map(|(p, d)| (*p + *d * 0.6).as_dvec3())
+            .collect();
+        let e = EditMesh::new(positions, &sphere.faces);
+        let mut asked = 0;
+        for [a, b] in e.edges() {
+            let (Some((c, d)), Some((d2, c2))) = (e.flip_apexes(a, b), e.flip_apexes(b, a)) else {
+                continue;
+            };
+            prop_assert_eq!((c, d), (c2, d2));
+            let either = e.flip_keeps_shape(a, b, c, d);
+            prop_assert_eq!(either, e.flip_keeps_shape(b, a, d, c), "edge {:?}", (a, b));
+            prop_assert_eq!(e.flippable(a, b), either.then_some((c, d)));
+            asked += 1;
+        }
+        prop_assert_eq!(asked, e.edges().len());
+    }
+
     #[test]
     fn normals_are_unit(m in soup()) {
         let scale = m.aabb().unwrap().max_extent();
