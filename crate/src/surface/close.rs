@@ -613,6 +613,16 @@ mod tests {
         assert!(TopologyReport::of(&closed).is_clean_closed());
     }
 
+    /// Points on a regular `n` by `n` grid of the unit square at z = 0 (the plane of
+    /// `primitives::grid`), corners included.
+    fn square_points(n: u32) -> Vec<Vec3> {
+        (0..=n)
+            .flat_map(|i| {
+                (0..=n).map(move |j| Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0))
+            })
+            .collect()
+    }
+
     #[test]
     fn a_hole_no_fan_can_close_is_triangulated_between_its_own_vertices() {
         // A U-shaped hole in a flat 7 x 6 grid: its centre lies on the faces between the U's
@@ -629,8 +639,8 @@ mod tests {
         });
         // Input points over the U's box only: the grid's outer border (whose cap would lie on
         // the sheet's back) stays open, as its cap would span the unsampled margin.
-        let points: Vec<Vec3> = (0..=60)
-            .flat_map(|i| (0..=60).map(move |j| Vec3::new(i as f32 / 60.0, j as f32 / 60.0, 0.0)))
+        let points: Vec<Vec3> = square_points(60)
+            .into_iter()
             .filter(|p| {
                 (1.0 / 7.0..=6.0 / 7.0).contains(&p.x) && (1.0 / 6.0..=5.0 / 6.0).contains(&p.y)
             })
@@ -667,9 +677,7 @@ mod tests {
         // it is the sheet's back face, doubled over onto every rim face, so the border stays
         // open and the sheet is left as it was.
         let sheet = crate::geometry::primitives::grid(4, 4);
-        let points: Vec<Vec3> = (0..=40)
-            .flat_map(|i| (0..=40).map(move |j| Vec3::new(i as f32 / 40.0, j as f32 / 40.0, 0.0)))
-            .collect();
+        let points = square_points(40);
         let mut out = sheet.clone();
         let report = close_holes(
             &mut out,
