@@ -18,6 +18,8 @@ pub mod primitives;
 /// Plane quadrics and their truncated minimiser (placement and decimation).
 pub mod quadric;
 pub mod sample;
+/// Positions snapped to a grid on the input's box (the same start for sharpening everywhere).
+pub mod snap;
 pub mod topology;
 /// Point-to-triangle distance (card detection, sharpening's coverage guard).
 pub mod triangle;

@@ -125,6 +125,15 @@ impl Quadric {
     }
 }
 
+/// Eigenvalues, ascending, of a symmetric 3x3 matrix ([`symmetric_eigen`]'s rotations: no
+/// trigonometry, so the same bits natively and inside WebAssembly, where the platforms' `acos`
+/// and `cos` may differ in the last place).
+pub fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
+    let (mut values, _) = symmetric_eigen(DMat3::from_cols_array_2d(&a));
+    values.sort_by(f64::total_cmp);
+    values
+}
+
 /// Eigenvalues and unit eigenvectors (the matrix's columns, in the same order) of a symmetric
 /// 3x3 matrix, by cyclic Jacobi rotations (converges to machine precision in a few sweeps).
 pub fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
@@ -172,6 +181,14 @@ pub fn symmetric_eigen(m: DMat3) -> ([f64; 3], DMat3) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn eigenvalues_of_a_known_matrix_ascending() {
+        let e = symmetric_eigenvalues([[5.0, 0.0, 0.0], [0.0, 2.0, 1.0], [0.0, 1.0, 2.0]]);
+        for (got, want) in e.iter().zip([1.0, 3.0, 5.0]) {
+            assert!((got - want).abs() < 1e-9, "{e:?}");
+        }
+    }
 
     #[test]
     fn eigen_decomposition_reconstructs_the_matrix() {

@@ -29,6 +29,7 @@ use rstar::RTree;
 use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::voxel::voxel_index;
 use crate::rng::Rng;
 
@@ -144,27 +145,6 @@ pub(crate) fn covariance(points: &[DVec3]) -> [[f64; 3]; 3] {
     c
 }
 
-/// Eigenvalues, ascending, of a symmetric 3x3 matrix (closed form, trigonometric).
-pub(crate) fn symmetric_eigenvalues(a: [[f64; 3]; 3]) -> [f64; 3] {
-    let p1 = a[0][1].powi(2) + a[0][2].powi(2) + a[1][2].powi(2);
-    let q = (a[0][0] + a[1][1] + a[2][2]) / 3.0;
-    if p1 <= 1e-30 {
-        let mut d = [a[0][0], a[1][1], a[2][2]];
-        d.sort_by(f64::total_cmp);
-        return d;
-    }
-    let p2 = (a[0][0] - q).powi(2) + (a[1][1] - q).powi(2) + (a[2][2] - q).powi(2) + 2.0 * p1;
-    let p = (p2 / 6.0).sqrt();
-    let b = |i: usize, j: usize| (a[i][j] - if i == j { q } else { 0.0 }) / p;
-    let det = b(0, 0) * (b(1, 1) * b(2, 2) - b(1, 2) * b(2, 1))
-        - b(0, 1) * (b(1, 0) * b(2, 2) - b(1, 2) * b(2, 0))
-        + b(0, 2) * (b(1, 0) * b(2, 1) - b(1, 1) * b(2, 0));
-    let phi = (det / 2.0).clamp(-1.0, 1.0).acos() / 3.0;
-    let largest = q + 2.0 * p * phi.cos();
-    let smallest = q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos();
-    [smallest, 3.0 * q - largest - smallest, largest]
-}
-
 /// The rule's inputs for `features`, in the order of [`BudgetRule::coefficients`]: `1, ln A,
 /// C, P`.
 fn regressors(features: &ShapeFeatures) -> [f64; 4] {
@@ -276,14 +256,6 @@ mod tests {
     use super::*;
     use crate::geometry::primitives::{cube, grid};
     use crate::geometry::sample::sample_surface;
-
-    #[test]
-    fn eigenvalues_of_a_known_matrix() {
-        let e = symmetric_eigenvalues([[2.0, 1.0, 0.0], [1.0, 2.0, 0.0], [0.0, 0.0, 5.0]]);
-        for (got, want) in e.iter().zip([1.0, 3.0, 5.0]) {
-            assert!((got - want).abs() < 1e-9, "{e:?}");
-        }
-    }
 
     #[test]
     fn a_plane_is_flat_and_a_small_cube_creased() {

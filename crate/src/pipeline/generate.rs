@@ -30,6 +30,7 @@ use crate::extract::{
 };
 use crate::geometry::normalize::Normalization;
 use crate::geometry::sample::{sample_surface, subsample_points};
+use crate::geometry::snap::snap_mesh;
 use crate::geometry::topology::TopologyReport;
 use crate::model::condition::{context_points, inference_positions, vertex_condition};
 use crate::model::dit::{Condition, Dit, DitConfig};
@@ -934,6 +935,12 @@ pub fn keep_sharpened(
         .expect("at least one candidate")
 }
 
+/// The grids that the kept mesh is snapped to before sharpening ([`snap_mesh`], on the input
+/// points' bounding box): the coarsest (a step of `2^-8` of the box's longest side, so at
+/// most 0.2% of it off) that takes no face's area, down to `2^-12`. The browser's CPU path and the CLI part where a coordinate lies
+/// within the few ulps they differ by of a cell's boundary: at `2^-12`, 1 of 6 inputs did.
+pub const SHARPEN_GRID_BITS: (i32, i32) = (8, 12);
+
 /// Whether [`sharpen_kept`] edits: sharpening on, after the manifold extraction only (its
 /// edits keep a manifold mesh manifold).
 fn sharpens(opts: &GenerateOptions) -> bool {
@@ -947,7 +954,9 @@ fn sharpens(opts: &GenerateOptions) -> bool {
 /// measure (times [`SharpenOptions::accept_ratio`]) replaces the kept one: where the model's
 /// mesh was too far off for the edits (loose flaps, crumpled sheets, thin parts the collapses
 /// would flatten), an earlier round or, when none passes, the mesh as it was stays
-/// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which).
+/// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which). Sharpening
+/// starts from the kept mesh snapped to a grid ([`SHARPEN_GRID_BITS`]), so that the browser's
+/// CPU path and the CLI, whose fitted positions differ by a few ulps, sharpen the same mesh.
 pub fn sharpen_kept(
     mut g: Generated,
     points: &[Vec3],
@@ -959,12 +968,16 @@ pub fn sharpen_kept(
     }
     let started = Instant::now();
     let mut mesh = g.mesh.clone();
+    // The greedy collapses after this would turn the few ulps by which the fitted positions
+    // differ natively and inside WebAssembly into different meshes; from a grid of
+    // 2^-SHARPEN_GRID_BITS of the input's size both start the same. Sharpening places
+    // every vertex again, so the grid is not seen in its mesh.
+    snap_mesh(&mut mesh, points, SHARPEN_GRID_BITS.0, SHARPEN_GRID_BITS.1);
     // The last round no farther from the input than the fitted mesh (times the ratio): later
     // rounds are flatter, and where one strays (a flap of the model's the points do not back
-    // collapsed away) an earlier round may still be right.
-    let before = g
-        .input_score
-        .unwrap_or_else(|| input_score(&g.mesh, g.topology.holes, points, planes));
+    // collapsed away) an earlier round may still be right. Measured on the snapped mesh, so
+    // that the limit is the same bits everywhere too.
+    let before = input_score(&mesh, g.topology.holes, points, planes);
     let limit = opts.sharpen.accept_ratio * before;
     let mut last = None;
     let mut report = sharpen_judged(&mut mesh, planes, &opts.sharpen, |m| {

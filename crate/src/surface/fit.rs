@@ -31,8 +31,9 @@ use rstar::RTree;
 use serde::{Deserialize, Serialize};
 
 use crate::extract::manifold::unit_normal;
+use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{Edge, folds};
-use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
+use crate::pipeline::budget::covariance;
 use crate::surface::input::{Indexed, InputPoints};
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).

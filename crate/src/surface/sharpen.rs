@@ -55,12 +55,13 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
+use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{TopologyReport, edges};
 use crate::geometry::triangle::{
     Ball, closest_point_weights, nearest_triangle, point_triangle_distance,
 };
 use crate::parallel::map_in_parallel;
-use crate::pipeline::budget::{covariance, symmetric_eigenvalues};
+use crate::pipeline::budget::covariance;
 use crate::surface::fit::{face_pairs, hold_back_folds, least_spread_direction};
 use crate::surface::input::{Indexed, finite_point_tree, point_spacing};
 
