@@ -11,6 +11,7 @@
 use glam::Vec3;
 
 use crate::Mesh;
+use crate::geometry::mesh::Aabb;
 use crate::geometry::topology::degenerate_faces;
 
 /// A grid: the points `origin + k * step` on each axis.
@@ -22,16 +23,23 @@ pub struct Grid {
 
 impl Grid {
     /// The grid over `points`: their bounding box's lower corner, and `2^-bits` of its longest
-    /// side as the step. `None` without finite points or for a box without size.
+    /// side as the step. `None` without points or for a box without size or with infinite
+    /// coordinates (NaN coordinates drop out of the box: `f32::min` and `max` skip them).
     pub fn over(points: &[Vec3], bits: i32) -> Option<Self> {
-        let (lo, hi) = points.iter().filter(|p| p.is_finite()).fold(
-            None,
-            |acc: Option<(Vec3, Vec3)>, &p| {
-                Some(acc.map_or((p, p), |(lo, hi)| (lo.min(p), hi.max(p))))
-            },
-        )?;
-        let step = (hi - lo).max_element() * 2f32.powi(-bits);
-        (step.is_normal() && step.is_finite()).then_some(Self { origin: lo, step })
+        let b = Aabb::of(points)?;
+        Self {
+            origin: b.min,
+            step: b.max_extent(),
+        }
+        .finer(bits)
+    }
+
+    /// The grid on the same origin with `2^-bits` of this one's step (exact: a power of two),
+    /// or `None` when that step is not a normal, finite number.
+    pub fn finer(self, bits: i32) -> Option<Self> {
+        let step = self.step * 2f32.powi(-bits);
+        (self.origin.is_finite() && step.is_normal() && step.is_finite())
+            .then_some(Self { step, ..self })
     }
 
     /// `p` moved to the nearest grid point (ties away from the origin).
@@ -51,11 +59,10 @@ pub fn snap_mesh(
     coarsest_bits: i32,
     finest_bits: i32,
 ) -> Option<i32> {
+    let coarsest = Grid::over(points, coarsest_bits)?;
     let before = degenerate_faces(mesh);
     for bits in coarsest_bits..=finest_bits {
-        let Some(grid) = Grid::over(points, bits) else {
-            continue;
-        };
+        let grid = coarsest.finer(bits - coarsest_bits)?;
         let snapped = mesh.positions.iter().map(|&p| grid.snap(p)).collect();
         let original = std::mem::replace(&mut mesh.positions, snapped);
         if degenerate_faces(mesh) <= before {

@@ -937,8 +937,9 @@ pub fn keep_sharpened(
 
 /// The grids that the kept mesh is snapped to before sharpening ([`snap_mesh`], on the input
 /// points' bounding box): the coarsest (a step of `2^-8` of the box's longest side, so at
-/// most 0.2% of it off) that takes no face's area, down to `2^-12`. The browser's CPU path and the CLI part where a coordinate lies
-/// within the few ulps they differ by of a cell's boundary: at `2^-12`, 1 of 6 inputs did.
+/// most 0.2% of it off) that takes no face's area, down to `2^-12`. The browser's CPU path
+/// and the CLI part where a coordinate lies within the few ulps they differ by of a cell's
+/// boundary: the finer the grid, the more often (1 of 6 inputs at about `2^-12`).
 pub const SHARPEN_GRID_BITS: (i32, i32) = (8, 12);
 
 /// Whether [`sharpen_kept`] edits: sharpening on, after the manifold extraction only (its
