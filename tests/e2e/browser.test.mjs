@@ -251,6 +251,10 @@ await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adap
       fast: await chooseBackend({ gpu: fake({ vendor: 'unknown' }), probe: async () => 3 }),
       probed: await chooseBackend({ gpu: anonymous }),
       none: await chooseBackend({ gpu: { requestAdapter: async () => null } }),
+      // Chromium on Linux: null for 'high-performance', the GPU for a plain request.
+      plainOnly: await chooseBackend({
+        gpu: { requestAdapter: async (o) => (o?.powerPreference ? null : { info: { vendor: 'nvidia' } }) },
+      }),
       noGpu: await chooseBackend({ gpu: null }),
     };
   });
@@ -260,6 +264,7 @@ await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adap
   assert(c.fast.backend === 'webgpu' && /is fast: 3 ms/.test(c.fast.reason), JSON.stringify(c.fast));
   assert(c.probed.backend === 'cpu' && /is slow: \d+ ms/.test(c.probed.reason), JSON.stringify(c.probed));
   assert(c.none.backend === 'cpu' && c.none.reason === 'no WebGPU adapter', JSON.stringify(c.none));
+  assert(c.plainOnly.backend === 'webgpu' && /GPU adapter \(nvidia\)/.test(c.plainOnly.reason), JSON.stringify(c.plainOnly));
   assert(c.noGpu.backend === 'cpu' && /no WebGPU/.test(c.noGpu.reason), JSON.stringify(c.noGpu));
   console.log(`  probe on SwiftShader: ${c.probed.reason}`);
 });

@@ -166,7 +166,9 @@ export async function chooseBackend({ gpu = globalThis.navigator?.gpu, probe = p
   if (!gpu) return { backend: 'cpu', reason: 'this browser has no WebGPU', adapter: null };
   let adapter = null;
   try {
-    adapter = await gpu.requestAdapter({ powerPreference: 'high-performance' });
+    // Chromium on Linux can answer null to 'high-performance' and still give its one GPU to a
+    // plain request (seen with an NVIDIA H200, bench/page_gpu): ask again without a preference.
+    adapter = (await gpu.requestAdapter({ powerPreference: 'high-performance' })) ?? (await gpu.requestAdapter());
   } catch {
     adapter = null;
   }
