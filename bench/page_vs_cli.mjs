@@ -100,8 +100,12 @@ const singleRuns = [];
 const pageRuns = [];
 const cliRuns = [];
 const oneThreadRuns = [];
+// Each tab is brought to the front before it generates: Chromium lowers a background tab's
+// priority, which took the two-worker page from 3.5 to 5.1 s in two of three rounds (2026-12-04).
 for (let i = 0; i < rounds; i++) {
+  await page.bringToFront();
   pageRuns.push(await pageRun(page, null));
+  await single.bringToFront();
   singleRuns.push(await pageRun(single, null));
   cliRuns.push(cliRun());
   oneThreadRuns.push(cliRun({ RAYON_NUM_THREADS: '1' }));
