@@ -16,7 +16,7 @@
 #   cargo doc --no-deps -p meshflow --features train,data-build
 #             (RUSTDOCFLAGS=-D rustdoc::broken_intra_doc_links)
 #   node tests/snip-wasm.test.mjs          (the wasm snipping tool build-web.sh uses)
-#   bash scripts/build-web.sh              (the two wasm modules, into web/pkg/)
+#   bash scripts/build-web.sh              (the three wasm modules, into web/pkg/)
 #   cargo clippy --target wasm32-unknown-unknown -p meshflow [--no-default-features] --features web,webgl | web,wgpu
 #                --profile wasm-release -- -D warnings
 #                                          (the wasm-only code: web/api.rs, web/viewer.rs)
@@ -46,7 +46,9 @@ fi
 # things by hand: CI machines start bare.
 # mesa-vulkan-drivers: lavapipe, the Vulkan device the wgpu golden tests run on.
 # chromium: the browser tests (WebGPU through its bundled SwiftShader).
-APT_PACKAGES=(mesa-vulkan-drivers chromium)
+# rustc-web, cargo-web, rust-web-src: the threaded wasm module's compiler and std source
+# (scripts/build-web.sh, THREADS).
+APT_PACKAGES=(mesa-vulkan-drivers chromium rustc-web cargo-web rust-web-src)
 
 LOG_DIR="$(mktemp -d "${TMPDIR:-/tmp}/meshflow-test.XXXXXX")"
 trap 'rm -rf "$LOG_DIR"' EXIT

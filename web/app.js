@@ -110,7 +110,9 @@ function startWorker(asked) {
   worker.onmessage = onWorkerMessage;
   // `?workers=N`: how many wasm modules draw the candidates on the CPU path (default: one per core).
   const workers = Number(params.get('workers')) || undefined;
-  worker.postMessage({ type: 'load', backend: asked, workers });
+  // `?threads=N`: the threaded module's threads where the page is cross-origin isolated (0: none).
+  const threads = params.has('threads') ? Number(params.get('threads')) : undefined;
+  worker.postMessage({ type: 'load', backend: asked, workers, threads });
 }
 
 // The GPU device was lost (a reset, a driver crash) or failed mid-generation: a fresh worker
@@ -129,8 +131,9 @@ function fallBackToCpu(message) {
 }
 
 // How many wasm modules draw the candidates, and why (for the user and the tests).
-function showWorkers({ workers, workersReason }) {
+function showWorkers({ workers, threads, workersReason }) {
   document.body.dataset.workers = String(workers);
+  if (threads !== undefined) document.body.dataset.threads = String(threads);
   document.body.dataset.workersReason = workersReason;
 }
 

@@ -1,6 +1,6 @@
 // Serves the repository root to 127.0.0.1 (a secure context, so WebGPU and Cache Storage
-// work) with the page's content security policy: `node web/serve.mjs [PORT]`.
-// Prints the page's URL. No dependencies.
+// work) with the page's content security policy and cross-origin isolation (the threaded CPU
+// path): `node web/serve.mjs [PORT] [--no-isolation]`. Prints the page's URL. No dependencies.
 import { createServer } from 'node:http';
 import { readFile, stat } from 'node:fs/promises';
 import { extname, join, normalize, resolve } from 'node:path';
@@ -24,7 +24,20 @@ export const CSP =
   "connect-src 'self'; img-src 'self' blob: data:; style-src 'self'; object-src 'none'; " +
   "base-uri 'none'; form-action 'none'";
 
-export function serve(port = 0) {
+// Cross-origin isolation (COOP and COEP): the page may then share memory between workers, so
+// its CPU path runs the threaded module on every core (web/lib/index.js). A host serving the
+// page should send the same two headers; without them the page falls back to one module per
+// worker and says so.
+export const ISOLATION = {
+  'cross-origin-opener-policy': 'same-origin',
+  'cross-origin-embedder-policy': 'require-corp',
+};
+
+/**
+ * Serves the repository root on 127.0.0.1 at `port` (0: any free one). `isolated` (default
+ * true): send [`ISOLATION`]'s headers; false serves the page as a host without them would.
+ */
+export function serve(port = 0, { isolated = true } = {}) {
   const server = createServer(async (req, res) => {
     try {
       const path = decodeURIComponent(new URL(req.url, 'http://x').pathname);
@@ -37,6 +50,7 @@ export function serve(port = 0) {
         'content-length': body.length,
         'content-security-policy': CSP,
         'cache-control': 'no-cache',
+        ...(isolated ? ISOLATION : {}),
       });
       res.end(req.method === 'HEAD' ? undefined : body);
     } catch (e) {
@@ -63,7 +77,9 @@ export function serve(port = 0) {
 
 if (process.argv[1] && resolve(process.argv[1]) === fileURLToPath(import.meta.url)) {
   try {
-    const server = await serve(Number(process.argv[2] ?? 8080));
+    const args = process.argv.slice(2);
+    const port = args.find((a) => !a.startsWith('--'));
+    const server = await serve(Number(port ?? 8080), { isolated: !args.includes('--no-isolation') });
     console.log(`MeshFlow: http://127.0.0.1:${server.address().port}/web/`);
   } catch (e) {
     console.error(`MeshFlow: ${e.message}`);

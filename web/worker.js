@@ -19,6 +19,8 @@ self.onmessage = async ({ data }) => {
         backend: data.backend ?? 'auto',
         // For tests and the curious: `?workers=1` draws every candidate in this worker.
         ...(data.workers ? { workers: data.workers } : {}),
+        // `?threads=0` keeps a cross-origin isolated page on the single-threaded modules.
+        ...(data.threads !== undefined ? { threads: data.threads } : {}),
         onProgress: (got, total) => post({ type: 'weights', got, total }),
       });
       post({
@@ -26,6 +28,7 @@ self.onmessage = async ({ data }) => {
         backend: model.backend,
         reason: model.backendReport.reason,
         workers: model.backendReport.workers,
+        threads: model.backendReport.threads,
         workersReason: model.backendReport.workersReason,
         asked: model.backendReport.asked,
         fromCache: model.weightsFromCache,

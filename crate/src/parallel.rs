@@ -1,8 +1,9 @@
-//! Independent pieces of work on rayon's threads where threads exist (native targets), in
-//! order where they do not (wasm32).
+//! Independent pieces of work on rayon's threads where threads exist (native targets and the
+//! threaded wasm module, feature `threads`), in order where they do not (the other wasm32
+//! modules).
 
-/// `f(k, item)` for every item, results in order; on native targets on rayon's threads.
-#[cfg(not(target_arch = "wasm32"))]
+/// `f(k, item)` for every item, results in order, on rayon's threads.
+#[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
 pub(crate) fn map_in_parallel<T, R, F>(items: Vec<T>, f: F) -> Vec<R>
 where
     T: Send,
@@ -17,8 +18,8 @@ where
         .collect()
 }
 
-/// `f(k, item)` for every item, results in order (wasm32 has no threads here).
-#[cfg(target_arch = "wasm32")]
+/// `f(k, item)` for every item, results in order (this wasm32 module has no threads).
+#[cfg(all(target_arch = "wasm32", not(feature = "threads")))]
 pub(crate) fn map_in_parallel<T, R, F>(items: Vec<T>, f: F) -> Vec<R>
 where
     F: Fn(usize, T) -> R,

@@ -108,8 +108,12 @@ async function canvasInk(page) {
   }, png.toString('base64'));
 }
 
+// The page as web/serve.mjs serves it (cross-origin isolated: the CPU path on threads), and as
+// a host without the COOP and COEP headers would (single-threaded modules on workers).
 const server = await serve(0);
 const base = `http://127.0.0.1:${server.address().port}`;
+const plainServer = await serve(0, { isolated: false });
+const plainBase = `http://127.0.0.1:${plainServer.address().port}`;
 const out = mkdtempSync(join(tmpdir(), 'meshflow-e2e-'));
 
 const browser = await launch(true);
@@ -233,9 +237,10 @@ await check("'auto' picks the CPU on this software adapter and says why", async 
   const shown = await page.textContent('#backend');
   assert(shown.includes('CPU') && shown.includes('swiftshader'), `shown: ${shown}`);
   assert((await page.inputValue('#backend-choice')) === 'auto', 'the Backend menu does not show auto');
-  // Only the small CPU-only module was instantiated for it.
+  // Only a CPU module was instantiated for it: the threaded one, as the page is cross-origin
+  // isolated.
   const module = await page.evaluate(() => document.body.dataset.wasmModule);
-  assert(module === 'cpu', `'auto' on the CPU loaded the ${module} module`);
+  assert(module === 'cpu-threads', `'auto' on the CPU loaded the ${module} module`);
 });
 
 await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adapter', async () => {
@@ -271,7 +276,8 @@ await check('the backend chooser: a GPU vendor, a fast and a slow probe, no adap
 
 await check("'auto' falls back to the CPU module when WebGPU will not start", async () => {
   // The chooser sees a GPU vendor's adapter; the WebGPU module then finds none. The WebGPU
-  // module has no CPU backend, so the package must fetch the CPU module and run there.
+  // module has no CPU backend, so the package must fetch a CPU module and run there (the
+  // threaded one: this page is cross-origin isolated).
   const got = await page.evaluate(async () => {
     const { loadModel, wasmModule } = await import('./lib/index.js');
     let asked = 0;
@@ -284,7 +290,7 @@ await check("'auto' falls back to the CPU module when WebGPU will not start", as
       navigator.gpu.requestAdapter = original;
     }
   });
-  assert(got.backend === 'cpu' && got.module === 'cpu', JSON.stringify(got));
+  assert(got.backend === 'cpu' && got.module === 'cpu-threads', JSON.stringify(got));
   assert(/WebGPU failed to start/.test(got.reason) && got.asked >= 2, JSON.stringify(got));
 });
 
@@ -324,13 +330,14 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
   assert((await p.evaluate(() => document.body.dataset.backend)) === 'cpu', 'not cpu');
   assert((await p.textContent('#backend')).includes('CPU'), 'fallback not announced');
-  // One wasm module per core draws the candidates (web/lib/candidates.js), and the page says so.
+  // The page is cross-origin isolated: the threaded module runs on one thread per core, in
+  // one worker, and the page says so.
+  assert(await p.evaluate(() => crossOriginIsolated), 'web/serve.mjs did not isolate the page');
   const cores = await p.evaluate(() => navigator.hardwareConcurrency);
-  const workers = Number(await p.evaluate(() => document.body.dataset.workers));
-  assert(workers === Math.min(cores, 4), `${workers} workers on ${cores} cores`);
-  if (workers > 1) {
-    assert((await p.textContent('#backend')).includes(`candidates drawn on ${workers} workers`), 'the workers are not announced');
-  }
+  const { workers, threads, wasmModule } = await p.evaluate(() => document.body.dataset);
+  assert(wasmModule === 'cpu-threads' && threads === String(Math.min(cores, 16)) && workers === '1',
+    `module ${wasmModule}, ${threads} threads and ${workers} workers on ${cores} cores`);
+  assert((await p.textContent('#backend')).includes(`on ${threads} threads (the page is cross-origin isolated)`), 'the threads are not announced');
   // No GPU device to share: the same wgpu viewer draws on a WebGL2 context of its own.
   await p.waitForFunction(() => document.body.dataset.viewerApi);
   assert((await p.evaluate(() => document.body.dataset.viewer)) === 'wgpu', 'the CPU path is not drawn by the wgpu viewer');
@@ -366,6 +373,31 @@ await check('without WebGPU the CPU fallback runs and is announced', async () =>
   await cpu.close();
 });
 
+await check('a page that is not cross-origin isolated draws the candidates on workers, and says why', async () => {
+  const cpu = await launch(false);
+  try {
+    const p = await cpu.newPage();
+    await p.goto(`${plainBase}/web/`);
+    await p.waitForFunction(() => document.body.dataset.backend, null, { timeout: 120_000 });
+    assert(!(await p.evaluate(() => crossOriginIsolated)), 'isolated without the headers');
+    // One single-threaded module per core draws the candidates (web/lib/candidates.js).
+    const cores = await p.evaluate(() => navigator.hardwareConcurrency);
+    const { workers, threads, wasmModule } = await p.evaluate(() => document.body.dataset);
+    assert(wasmModule === 'cpu' && threads === '0' && Number(workers) === Math.min(cores, 4),
+      `module ${wasmModule}, ${threads} threads and ${workers} workers on ${cores} cores`);
+    const shown = await p.textContent('#backend');
+    assert(shown.includes('no threads: the page is not cross-origin isolated'), `backend text: ${shown}`);
+    if (Number(workers) > 1) assert(shown.includes(`candidates drawn on ${workers} workers`), `backend text: ${shown}`);
+    await p.setInputFiles('#file', FIXTURE);
+    await p.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
+    await generate(p, { steps: 1, samples: 2 });
+    const faces = await p.textContent('#stats tr[data-key="vertices / faces"] td:last-child');
+    assert(Number(faces.split('/')[1]) > 0, `faces on workers: ${faces}`);
+  } finally {
+    await cpu.close();
+  }
+});
+
 await check('a candidate worker that cannot start leaves one module drawing, and the page says so', async () => {
   // The page's own files, except the helpers' script: a host that does not serve it.
   const { createServer } = await import('node:http');
@@ -375,7 +407,7 @@ await check('a candidate worker that cannot start leaves one module drawing, and
       res.end();
       return;
     }
-    const r = await fetch(`${base}${req.url}`);
+    const r = await fetch(`${plainBase}${req.url}`);
     const body = Buffer.from(await r.arrayBuffer());
     res.writeHead(r.status, Object.fromEntries([...r.headers].filter(([k]) => !['content-encoding', 'transfer-encoding', 'content-length'].includes(k))));
     res.end(body);
@@ -581,12 +613,49 @@ const DEFAULT_PATH_INPUTS = [
   ...JSON.parse(readFileSync(join(ROOT, 'web/examples/examples.json'), 'utf8')).map((e) => join(ROOT, 'web/examples', e.file)),
 ];
 let wasmDefaults = null;
+// The unpacked npm package's page folder (the npm-package check makes it).
+let appFolder = null;
+
+// A static server of `folder` on 127.0.0.1, as a user's host would serve an app that imports
+// the package, with `headers` on every answer.
+async function serveFolder(folder, headers = {}) {
+  const { createServer } = await import('node:http');
+  const appServer = createServer((req, res) => {
+    const path = join(folder, decodeURIComponent(new URL(req.url, 'http://x').pathname));
+    try {
+      const body = readFileSync(path.endsWith('/') ? join(path, 'index.html') : path);
+      const type = path.endsWith('.js') ? 'text/javascript' : path.endsWith('.wasm') ? 'application/wasm' : path.endsWith('.html') || path.endsWith('/') ? 'text/html' : 'application/octet-stream';
+      res.writeHead(200, { 'content-type': type, 'content-length': body.length, ...headers });
+      res.end(req.method === 'HEAD' ? undefined : body);
+    } catch {
+      res.writeHead(404);
+      res.end();
+    }
+  });
+  await new Promise((ok) => appServer.listen(0, '127.0.0.1', ok));
+  return appServer;
+}
+
+// How far apart two meshes are: null where their faces differ, else the largest vertex
+// difference over the first's extent (the model frame spans 2).
+function meshDistance(a, b) {
+  if (JSON.stringify(a.indices) !== JSON.stringify(b.indices) || a.positions.length !== b.positions.length) return null;
+  const extent = Math.max(...[0, 1, 2].map((k) => {
+    const axis = a.positions.filter((_, i) => i % 3 === k);
+    return Math.max(...axis) - Math.min(...axis);
+  }));
+  let worst = 0;
+  a.positions.forEach((v, i) => { worst = Math.max(worst, Math.abs(v - b.positions[i])); });
+  return worst / extent;
+}
 
 await check('the npm package is publishable: `npm publish --dry-run` passes with the shipped weights', async () => {
   const out = execFileSync('npm', ['publish', '--dry-run'], { cwd: ROOT, stdio: 'pipe', encoding: 'utf8' });
   const log = execFileSync('npm', ['pack', '--dry-run', '--json'], { cwd: ROOT, encoding: 'utf8' });
   const files = JSON.parse(log)[0].files.map((f) => f.path);
-  for (const f of ['web/pkg/meshflow_bg.wasm', 'web/pkg/meshflow_cpu_bg.wasm', 'weights/vae.safetensors', 'weights/dit.safetensors', 'weights/README.md', 'web/lib/index.d.ts']) {
+  const helper = files.find((f) => /^web\/pkg\/snippets\/wasm-bindgen-rayon-[^/]+\/src\/workerHelpers\.js$/.test(f));
+  assert(helper, `the threaded module's worker script is not in the package: ${files}`);
+  for (const f of ['web/pkg/meshflow_bg.wasm', 'web/pkg/meshflow_cpu_bg.wasm', 'web/pkg/meshflow_cpu_threads_bg.wasm', 'weights/vae.safetensors', 'weights/dit.safetensors', 'weights/README.md', 'web/lib/index.d.ts']) {
     assert(files.includes(f), `${f} is not in the package: ${files}`);
   }
   void out;
@@ -697,20 +766,9 @@ await check('the npm package imports and generates the way a user would', async 
   );
   writeFileSync(join(app, 'lantern.ply'), readFileSync(FIXTURE));
   for (const f of DEFAULT_PATH_INPUTS) writeFileSync(join(app, basename(f)), readFileSync(f));
-  const { createServer } = await import('node:http');
-  const appServer = createServer((req, res) => {
-    const path = join(app, decodeURIComponent(new URL(req.url, 'http://x').pathname));
-    try {
-      const body = readFileSync(path.endsWith('/') ? join(path, 'index.html') : path);
-      const type = path.endsWith('.js') ? 'text/javascript' : path.endsWith('.wasm') ? 'application/wasm' : path.endsWith('.html') || path.endsWith('/') ? 'text/html' : 'application/octet-stream';
-      res.writeHead(200, { 'content-type': type, 'content-length': body.length });
-      res.end(req.method === 'HEAD' ? undefined : body);
-    } catch {
-      res.writeHead(404);
-      res.end();
-    }
-  });
-  await new Promise((ok) => appServer.listen(0, '127.0.0.1', ok));
+  appFolder = app;
+  // A plain static host: no COOP/COEP, so the package runs its single-threaded modules.
+  const appServer = await serveFolder(app);
   const b = await launch(true);
   const p = await b.newPage();
   p.on('pageerror', (e) => console.log(`  pageerror: ${e.message}`));
@@ -770,6 +828,58 @@ await check('the npm package imports and generates the way a user would', async 
   assert(/samples must be an integer from 1 to 16/.test(o.samples.badSamples), `samples: 0 was not refused: ${o.samples.badSamples}`);
   assert(o.solver.heunFaces > 0, `solver: 'heun' made no faces: ${JSON.stringify(o.solver)}`);
   assert(/solver must be 'euler', 'heun' or 'midpoint'/.test(o.solver.badSolver), `solver: 'rk4' was not refused: ${o.solver.badSolver}`);
+});
+
+await check('the npm package runs on threads where the page is cross-origin isolated, with the same meshes', async () => {
+  assert(appFolder && wasmDefaults, 'the npm-package check did not run');
+  const names = DEFAULT_PATH_INPUTS.map((f) => basename(f));
+  writeFileSync(join(appFolder, 'threads.html'), '<!doctype html><script type="module" src="threads.js"></script>');
+  writeFileSync(
+    join(appFolder, 'threads.js'),
+    `import { loadModel, readPoints, wasmModule } from './node_modules/meshflow/web/lib/index.js';
+     try {
+       const model = await loadModel({ backend: 'cpu' });
+       window.__threads = { isolated: crossOriginIsolated, module: wasmModule(), threads: model.backendReport.threads,
+         workers: model.workers, reason: model.backendReport.workersReason, meshes: {} };
+       for (const name of ${JSON.stringify(names)}) {
+         const points = await readPoints(new Uint8Array(await (await fetch(name)).arrayBuffer()), name);
+         window.__threads.meshes[name] = Array.from((await model.generate(points)).toGlb());
+       }
+       let bad = '';
+       try { await loadModel({ backend: 'cpu', threads: -1 }); } catch (e) { bad = e.message; }
+       window.__threads.bad = bad;
+       document.body.dataset.done = 'ok';
+     } catch (e) {
+       document.body.dataset.done = String(e?.message ?? e);
+     }`,
+  );
+  const { ISOLATION } = await import('../../web/serve.mjs');
+  const appServer = await serveFolder(appFolder, ISOLATION);
+  const b = await launch(false);
+  try {
+    const p = await b.newPage();
+    p.on('pageerror', (e) => console.log(`  pageerror: ${e.message}`));
+    await p.goto(`http://127.0.0.1:${appServer.address().port}/threads.html`);
+    await p.waitForFunction(() => document.body?.dataset.done, null, { timeout: GENERATION_TIMEOUT });
+    const done = await p.evaluate(() => document.body.dataset.done);
+    assert(done === 'ok', `the package threw: ${done}`);
+    const t = await p.evaluate(() => window.__threads);
+    const cores = await p.evaluate(() => navigator.hardwareConcurrency);
+    assert(t.isolated && t.module === 'cpu-threads' && t.threads === Math.min(cores, 16) && t.workers === 1,
+      `isolated ${t.isolated}, module ${t.module}, ${t.threads} threads, ${t.workers} workers: ${t.reason}`);
+    assert(/threads must be an integer from 0 to 64/.test(t.bad), `threads: -1 was not refused: ${t.bad}`);
+    // The mesh the single-threaded modules made at the defaults (the check above), input by input.
+    const report = [];
+    for (const name of names) {
+      const d = meshDistance(glbMesh(Uint8Array.from(wasmDefaults[name].sharpened)), glbMesh(Uint8Array.from(t.meshes[name])));
+      report.push(`${name}: ${d === null ? 'faces differ' : `the same faces, max |dv| ${d.toExponential(2)} of the extent`}`);
+      assert(d !== null && d <= 1e-4, report.at(-1));
+    }
+    console.log(`  ${t.threads} threads against the single-threaded modules, at the defaults:\n  ${report.join('\n  ')}`);
+  } finally {
+    await b.close();
+    appServer.close();
+  }
 });
 
 await check('wasm and native give the same mesh for the same seed and input', async () => {
@@ -846,6 +956,7 @@ await check('the CPU path inside wasm and `meshflow generate` make the same mesh
 });
 
 server.close();
+plainServer.close();
 const failed = results.filter(([, ok]) => !ok).length;
 console.log(`browser: ${results.length - failed} passed, ${failed} failed (screenshots in ${out})`);
 process.exit(failed ? 1 : 0);

@@ -146,9 +146,15 @@ export interface BackendReport {
   asked: 'auto' | 'webgpu' | 'cpu';
   reason: string;
   adapter: BackendChoice['adapter'];
-  /** Modules drawing a generation's candidates side by side (1 on WebGPU). */
+  /** Modules drawing a generation's candidates side by side (1 on WebGPU and with threads). */
   workers: number;
-  /** A sentence for the user, e.g. "candidates drawn on 2 workers side by side", or why fewer workers run than asked. */
+  /** Threads of the threaded CPU module (0: it does not run: WebGPU, or no cross-origin isolation). */
+  threads: number;
+  /**
+   * A sentence for the user, e.g. "on 4 threads (the page is cross-origin isolated)" or
+   * "candidates drawn on 2 workers side by side; no threads: the page is not cross-origin
+   * isolated", or why fewer workers run than asked.
+   */
   workersReason: string;
 }
 
@@ -188,12 +194,23 @@ export interface LoadOptions {
   useCache?: boolean;
   /**
    * Where the wasm files are, if not beside the glue in pkg/: `cpu` for meshflow_cpu_bg.wasm
-   * (the CPU path, loaded when the CPU is chosen or WebGPU fails to start) and `webgpu` for
-   * meshflow_bg.wasm (WebGPU alone).
+   * (the CPU path, loaded when the CPU is chosen or WebGPU fails to start), `'cpu-threads'`
+   * for meshflow_cpu_threads_bg.wasm (the same on threads, where the page is cross-origin
+   * isolated) and `webgpu` for meshflow_bg.wasm (WebGPU alone).
    */
-  wasmUrls?: { cpu?: string | URL; webgpu?: string | URL };
+  wasmUrls?: { cpu?: string | URL; 'cpu-threads'?: string | URL; webgpu?: string | URL };
   /**
-   * On the CPU path: wasm modules drawing a generation's candidates side by side, 1 to 4
+   * On the CPU path where the page is cross-origin isolated (served with
+   * `Cross-Origin-Opener-Policy: same-origin` and `Cross-Origin-Embedder-Policy:
+   * require-corp`): threads of the threaded module, 0 to 64 (default: one per core the
+   * browser reports, at most 16; 0: never use it). It runs the models and the per-candidate
+   * stages on every core from one copy of the models, and makes the same mesh. Elsewhere, or
+   * where it fails to start, `workers` applies and `backendReport.workersReason` says why.
+   * The pool is started once a page: a later `loadModel` gets the first one's threads.
+   */
+  threads?: number;
+  /**
+   * On the CPU path without threads: wasm modules drawing a generation's candidates side by side, 1 to 4
    * (default: one per core the browser reports, at most 4). Each beyond the first is a worker
    * with its own copy of the models (about 60 MB); the mesh is the same for any number. A
    * worker that fails to start or dies is dropped, `backendReport.workersReason` says so.
@@ -203,11 +220,13 @@ export interface LoadOptions {
 
 /**
  * Instantiates a wasm module once: `'cpu'` (meshflow_cpu: the CPU path, the smaller
- * download) or `'webgpu'` (meshflow: WebGPU alone). Resolves to its glue and memory.
+ * download), `'cpu-threads'` (meshflow_cpu_threads: the CPU path on threads; cross-origin
+ * isolated contexts only, its pool started by `glue.initThreadPool(n)`) or `'webgpu'`
+ * (meshflow: WebGPU alone). Resolves to its glue and memory.
  */
-export function initWasm(which?: 'cpu' | 'webgpu', wasmUrl?: string | URL): Promise<{ glue: unknown; memory: WebAssembly.Memory }>;
+export function initWasm(which?: 'cpu' | 'cpu-threads' | 'webgpu', wasmUrl?: string | URL): Promise<{ glue: unknown; memory: WebAssembly.Memory }>;
 /** Which wasm module is in use (`null` before any is loaded). */
-export function wasmModule(): 'cpu' | 'webgpu' | null;
+export function wasmModule(): 'cpu' | 'cpu-threads' | 'webgpu' | null;
 export function loadModel(options?: LoadOptions): Promise<Model>;
 export function fetchWeights(
   baseUrl: string | URL,

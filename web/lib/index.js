@@ -8,9 +8,10 @@
 //   const mesh = await model.generate(points, { samples: 12, onStep: (i, n) => {} });
 //   const glb = mesh.toGlb();
 //
-// Two wasm modules: meshflow_cpu (the CPU path, about a fifth of the bytes) and meshflow
-// (WebGPU alone). Only the one the chosen backend needs is downloaded; the CPU one also where
-// WebGPU fails to start.
+// Three wasm modules: meshflow_cpu (the CPU path, about a fifth of the bytes), the same with
+// threads, meshflow_cpu_threads (for cross-origin isolated pages: rayon on Web Workers sharing
+// its memory), and meshflow (WebGPU alone). Only the one the chosen backend needs is
+// downloaded; a CPU one also where WebGPU fails to start.
 
 import { MAX_HELPERS, generateSideBySide, startHelpers } from './candidates.js';
 
@@ -19,6 +20,7 @@ const CACHE = 'meshflow-weights-v1';
 
 const MODULES = {
   cpu: () => import('../pkg/meshflow_cpu.js'),
+  'cpu-threads': () => import('../pkg/meshflow_cpu_threads.js'),
   webgpu: () => import('../pkg/meshflow.js'),
 };
 const loaded = {};
@@ -27,11 +29,13 @@ let current = null;
 
 /**
  * Instantiates one of the wasm modules once and returns its exports: `'cpu'` (meshflow_cpu,
- * the CPU path) or `'webgpu'` (meshflow: WebGPU only). `wasmUrl`: where its
- * `_bg.wasm` is (default: beside the JS glue).
+ * the CPU path), `'cpu-threads'` (meshflow_cpu_threads: the CPU path on threads, in a
+ * cross-origin isolated context only; start its pool with `glue.initThreadPool(n)`) or
+ * `'webgpu'` (meshflow: WebGPU only). `wasmUrl`: where its `_bg.wasm` is (default: beside the
+ * JS glue).
  */
 export function initWasm(which = 'cpu', wasmUrl) {
-  if (!MODULES[which]) throw new TypeError(`initWasm: which must be 'cpu' or 'webgpu', got ${JSON.stringify(which)}`);
+  if (!MODULES[which]) throw new TypeError(`initWasm: which must be 'cpu', 'cpu-threads' or 'webgpu', got ${JSON.stringify(which)}`);
   loaded[which] ??= MODULES[which]().then(async (glue) => {
     const instance = await glue.default(wasmUrl ? { module_or_path: wasmUrl } : undefined);
     return { glue, memory: instance.memory };
@@ -340,14 +344,58 @@ export class Model {
   }
 }
 
+// Threads the threaded module may start at most (rayon's pool; each a Web Worker sharing the
+// module's memory, no copy of the models).
+export const MAX_THREADS = 64;
+// The threaded module's pool: started once per page, as rayon's global pool cannot be rebuilt.
+let threadPool = null;
+
+/**
+ * The threaded CPU module with its pool of `threads` workers started (once; a later call gets
+ * the first call's pool): `{ glue, threads }`. Rejects where the context has no shared memory
+ * or the pool will not start.
+ */
+async function startThreaded(threads, wasmUrl) {
+  const { glue } = await initWasm('cpu-threads', wasmUrl);
+  threadPool ??= glue.initThreadPool(threads).then(() => threads);
+  return { glue, threads: await threadPool };
+}
+
+/**
+ * The CPU module to run: the threaded one where the context is cross-origin isolated (shared
+ * memory) and `threads` is above 0, else, or where it fails to start, the single-threaded one
+ * (whose candidates helper workers then draw beside it). `{ glue, threads, why }`: `threads`
+ * 0 and `why` saying why not, for the second.
+ */
+async function cpuModule(threads, wasmUrls) {
+  let why;
+  if (threads === 0) {
+    why = 'threads: 0';
+  } else if (!globalThis.crossOriginIsolated) {
+    why = 'no threads: the page is not cross-origin isolated';
+  } else {
+    try {
+      return { ...(await startThreaded(threads, wasmUrls['cpu-threads'])), why: null };
+    } catch (e) {
+      why = `the threaded module did not start (${e?.message ?? e})`;
+    }
+  }
+  const { glue } = await initWasm('cpu', wasmUrls.cpu);
+  return { glue, threads: 0, why };
+}
+
 /**
  * Loads the shipped models. `weights`: the folder URL holding vae.* and dit.* (default: the
  * package's `weights/`, the f16 files the CLI runs too, so the same input, options and seed give
  * the same mesh); `backend`: `'auto'` (the faster one here, see [`chooseBackend`]),
- * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download; `workers`: on the CPU path, how
- * many wasm modules draw a generation's candidates side by side (default: one per core, at
- * most 4; each beyond the first is a worker with its own copy of the models, about 60 MB). The
- * model's `backendReport` says which backend runs and why, and on how many workers.
+ * `'webgpu'` or `'cpu'`; `onProgress(bytes, total)` during the download. On the CPU path:
+ * `threads`, the threads of the threaded module where the page is cross-origin isolated
+ * (COOP `same-origin` and COEP `require-corp`; default one per core, at most 16; 0: never);
+ * elsewhere (or with `threads: 0`) `workers`, how many single-threaded wasm modules draw a
+ * generation's candidates side by side (default: one per core, at most 4; each beyond the
+ * first is a worker with its own copy of the models, about 60 MB). The model's
+ * `backendReport` says which backend runs and why, on how many threads or workers, and why.
+ * `wasmUrls`: `{ cpu, 'cpu-threads', webgpu }`, where each module's `_bg.wasm` is.
  */
 export async function loadModel({
   weights = new URL('../../weights/', import.meta.url),
@@ -356,6 +404,7 @@ export async function loadModel({
   useCache = true,
   wasmUrls = {},
   workers = defaultWorkers(),
+  threads = defaultThreads(),
 } = {}) {
   if (!['auto', 'webgpu', 'cpu'].includes(backend)) {
     throw new TypeError(`backend must be 'auto', 'webgpu' or 'cpu', got ${JSON.stringify(backend)}`);
@@ -363,36 +412,42 @@ export async function loadModel({
   if (!(Number.isInteger(workers) && workers >= 1 && workers <= 1 + MAX_HELPERS)) {
     throw new TypeError(`workers must be an integer from 1 to ${1 + MAX_HELPERS}, got ${JSON.stringify(workers)}`);
   }
+  if (!(Number.isInteger(threads) && threads >= 0 && threads <= MAX_THREADS)) {
+    throw new TypeError(`threads must be an integer from 0 to ${MAX_THREADS}, got ${JSON.stringify(threads)}`);
+  }
   const choice = backend === 'auto' ? await chooseBackend() : { backend, reason: `asked for ${backend}`, adapter: null };
-  const [{ glue }, { files, fromCache }] = await Promise.all([
-    initWasm(choice.backend, wasmUrls[choice.backend]),
+  const [chosen, { files, fromCache }] = await Promise.all([
+    choice.backend === 'cpu' ? cpuModule(threads, wasmUrls) : initWasm('webgpu', wasmUrls.webgpu),
     fetchWeights(weights, { onProgress, useCache }),
   ]);
   const text = new TextDecoder();
   const load = (module, which) =>
     module.MeshFlow.load(text.decode(files[0]), files[1], text.decode(files[2]), files[3], which);
-  // The CPU path draws candidates on helper workers too (one GPU serves a WebGPU model); they
-  // load their copies while this module loads its own.
-  const helpersFor = () => startHelpers(workers - 1, files, wasmUrls.cpu);
-  let starting = choice.backend === 'cpu' ? helpersFor() : null;
+  // Without threads the CPU path draws candidates on helper workers too (one GPU serves a
+  // WebGPU model); they load their copies while this module loads its own.
+  const helpersFor = (cpu) => (cpu.threads ? null : startHelpers(workers - 1, files, wasmUrls.cpu));
+  let cpu = choice.backend === 'cpu' ? chosen : null;
+  let starting = cpu ? helpersFor(cpu) : null;
   try {
     let inner;
     let { reason } = choice;
     try {
-      inner = await load(glue, choice.backend);
+      inner = await load(chosen.glue, choice.backend);
     } catch (e) {
       // 'auto' chose WebGPU but the device would not start: the CPU path still works. The
       // WebGPU module has no CPU backend (it would cost 7% of its bytes gzipped), so this
-      // fetches the small CPU module.
+      // fetches a CPU module.
       if (backend !== 'auto' || choice.backend !== 'webgpu') throw e;
-      const cpu = await initWasm('cpu', wasmUrls.cpu);
+      cpu = await cpuModule(threads, wasmUrls);
       inner = await load(cpu.glue, 'cpu');
       reason = `WebGPU failed to start (${e?.message ?? e})`;
-      starting = helpersFor();
+      starting = helpersFor(cpu);
     }
     let helpers = [];
     let workersReason = 'one module drives the GPU';
-    if (starting) {
+    if (cpu?.threads) {
+      workersReason = `on ${cpu.threads} threads (the page is cross-origin isolated)`;
+    } else if (starting) {
       const started = await starting;
       helpers = started.helpers;
       const drawing = describeWorkers(1 + helpers.length);
@@ -401,9 +456,12 @@ export async function loadModel({
         : started.failed.length
           ? `${started.failed.length} of ${workers - 1} candidate workers did not start (${started.failed[0]}); ${drawing}`
           : drawing;
+      workersReason += `; ${cpu.why}`;
     }
     const model = new Model(inner, helpers);
-    model.backendReport = { asked: backend, reason, adapter: choice.adapter, workers: model.workers, workersReason };
+    model.backendReport = {
+      asked: backend, reason, adapter: choice.adapter, workers: model.workers, threads: cpu?.threads ?? 0, workersReason,
+    };
     model.weightsFromCache = fromCache;
     return model;
   } catch (e) {
@@ -412,6 +470,12 @@ export async function loadModel({
     if (fromCache) await clearWeightsCache();
     throw e;
   }
+}
+
+/** Threads for the threaded module by default: one per core the browser reports, at most 16. */
+function defaultThreads() {
+  const cores = Number(globalThis.navigator?.hardwareConcurrency) || 1;
+  return Math.max(1, Math.min(cores, 16));
 }
 
 /** Modules to draw candidates on by default: one per core the browser reports, at most 1 + MAX_HELPERS. */
@@ -451,7 +515,10 @@ export async function wasmMemoryBytes() {
   return (await anyWasm()).memory.buffer.byteLength;
 }
 
-/** Which wasm module is in use: `'cpu'` (meshflow_cpu), `'webgpu'` (meshflow) or `null`. */
+/**
+ * Which wasm module is in use: `'cpu'` (meshflow_cpu), `'cpu-threads'`
+ * (meshflow_cpu_threads), `'webgpu'` (meshflow) or `null`.
+ */
 export function wasmModule() {
   return Object.keys(loaded).find((k) => loaded[k] === current) ?? null;
 }

@@ -3,16 +3,18 @@
 //! plainly through [`MeshFlow::backend`]), and write GLB / OBJ. Every failure is a JS
 //! exception with a message; a panic hook reports the unexpected in the console.
 //!
-//! Two modules are built from this file (scripts/build-web.sh): with feature `wgpu` (WebGPU
-//! and the CPU, plus the wgpu viewer) and without it (the CPU alone: a third of the bytes, for
-//! the machines where the CPU path is the faster one anyway).
+//! Three modules are built from this file (scripts/build-web.sh): with feature `wgpu` (WebGPU
+//! and the wgpu viewer), without it (the CPU alone, for the machines where the CPU path is the
+//! faster one anyway), and the CPU alone with feature `threads` (rayon's pool on Web Workers,
+//! for cross-origin isolated pages: `initThreadPool` below).
 //!
 //! Generation drives the same stages as the CLI ([`crate::pipeline::generate::Generator`]) but reads
 //! back asynchronously, and waits for the GPU after every Euler step, so the page can show
 //! real progress and cancel between steps. On the CPU, several workers (each its own module)
 //! can draw runs of the candidates side by side ([`MeshFlow::generate_candidates`]) and one
 //! keeps the best ([`MeshFlow::keep_candidates`]): wasm has no threads without cross-origin
-//! isolation, and the candidates need no shared memory.
+//! isolation, and the candidates need no shared memory. With it, the threaded module runs
+//! them all on its pool instead.
 
 /// Burn's WebGPU instance, adapter, device and queue, shared with the viewer; nothing in the
 /// CPU-only module.
@@ -38,6 +40,13 @@ use crate::pipeline::generate::{
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(any(feature = "wgpu", feature = "webgl"))]
 use crate::web::viewer::Viewer;
+
+/// Starts rayon's pool on `n` Web Workers sharing this module's memory (the threaded CPU
+/// module only, in a cross-origin isolated page): `await initThreadPool(n)` once after the
+/// module is initialised, before the first generation. wasm-bindgen-rayon's, re-exported
+/// rather than a pool of our own: it is what the ecosystem uses for rayon on the web.
+#[cfg(feature = "threads")]
+pub use wasm_bindgen_rayon::init_thread_pool;
 
 #[wasm_bindgen(start)]
 fn start() {
