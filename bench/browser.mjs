@@ -1,6 +1,6 @@
 // Time to first mesh and per-stage times of the web page in Debian's headless Chromium,
 // written to bench/browser.json. Not a test: run it by hand after scripts/build-web.sh,
-//   node bench/browser.mjs [--steps 4] [--samples 12] [--no-sharpen] [--cpu-only [--runs N] -o FILE]
+//   node bench/browser.mjs [--steps 4] [--samples 12] [--no-sharpen] [--no-isolation] [--cpu-only [--runs N] -o FILE]
 // Three runs of the lantern scan at the page's defaults (vertex budget from the shape, 4
 // midpoint steps, 12 candidates, seed 0, sharpened):
 //   cold:  a fresh browser profile, so the weights are downloaded and nothing is cached;
@@ -8,7 +8,10 @@
 //   cpu:   WebGPU off, the CPU fallback inside wasm (warm, from its own first load).
 // WebGPU here is SwiftShader, a CPU implementation of Vulkan: these are the figures of a
 // machine without a GPU, not of a visitor's GPU. --cpu-only skips the (slow) WebGPU runs and
-// times N warm CPU runs (default 3) into FILE, for comparing two builds side by side.
+// times N warm CPU runs (default 3) into FILE, for comparing two builds side by side. The page
+// is served cross-origin isolated, as web/serve.mjs serves it (the CPU path on the threaded
+// module); --no-isolation serves it as a host without COOP/COEP would (single-threaded modules
+// on workers).
 import { chromium } from 'playwright-core';
 import { existsSync, mkdtempSync, rmSync, statSync, writeFileSync } from 'node:fs';
 import { execSync } from 'node:child_process';
@@ -29,7 +32,8 @@ const WEBGPU_FLAGS = ['--enable-unsafe-webgpu', '--use-angle=swiftshader', '--us
 // data; this fixture is kept for comparability).
 const INPUT = join(ROOT, 'tests/fixtures/points/stone_lantern_2048.ply');
 
-const server = await serve(0);
+const isolated = !process.argv.includes('--no-isolation');
+const server = await serve(0, { isolated });
 // WebGPU is asked for explicitly: 'auto' would pick the CPU on SwiftShader.
 const url = (webgpu) => `http://127.0.0.1:${server.address().port}/web/?backend=${webgpu ? 'webgpu' : 'cpu'}`;
 
@@ -81,14 +85,15 @@ async function run(webgpu, runs) {
 // The module the CPU path loads: meshflow_cpu where it is built (since the split), else the one
 // module of earlier builds.
 const wasm = join(ROOT, 'web/pkg/meshflow_bg.wasm');
-const cpuWasm = existsSync(join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm')) ? join(ROOT, 'web/pkg/meshflow_cpu_bg.wasm') : wasm;
+const cpuModule = join(ROOT, `web/pkg/${isolated ? 'meshflow_cpu_threads' : 'meshflow_cpu'}_bg.wasm`);
+const cpuWasm = existsSync(cpuModule) ? cpuModule : wasm;
 if (cpuOnly) {
   const runs = Number(arg('--runs', 3)) || 3;
   const [, ...warm] = await run(false, [false, ...Array(runs).fill(true)]);
   server.close();
   const result = {
     method: `node bench/browser.mjs --cpu-only: headless Chromium ${execSync('chromium --version').toString().trim()}, ` +
-      `the CPU path in wasm, the lantern scan at the page defaults with ${steps} steps and ${samples} candidates${sharpen ? '' : ', not sharpened'}, ${runs} warm runs after a first load`,
+      `the CPU path in wasm (${isolated ? 'cross-origin isolated: the threaded module' : 'not isolated: single-threaded modules on workers'}), the lantern scan at the page defaults with ${steps} steps and ${samples} candidates${sharpen ? '' : ', not sharpened'}, ${runs} warm runs after a first load`,
     machine: `${cpus()[0].model}, ${cpus().length} threads`,
     wasm_file: cpuWasm.slice(ROOT.length + 1),
     wasm_bytes: statSync(cpuWasm).size,
