@@ -2,16 +2,15 @@
 //! candidates drawn in one batch: candidate `j` is seeded by `seed + j` whatever batch it is
 //! drawn in, and a row of a batch does not depend on the other rows.
 
-use burn::tensor::Device;
+mod common;
+
 use meshflow::io::{Limits, read_path};
 use meshflow::pipeline::generate::{GenerateOptions, input_points};
-use meshflow::pipeline::shipped::ShippedModels;
 
 #[test]
 fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let device = Device::flex();
-    let models = ShippedModels::load(&root.join("weights"), &device).unwrap();
+    let root = common::repo_root();
+    let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let mesh = read_path(
         &root.join("tests/fixtures/points/stone_lantern_2048.ply"),

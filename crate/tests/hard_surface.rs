@@ -4,9 +4,10 @@
 //!
 //! `MESHFLOW_WRITE_FIXTURES=1 cargo test --release --test hard_surface` rewrites the files.
 
+mod common;
+
 use std::path::PathBuf;
 
-use burn::tensor::Device;
 use meshflow::Mesh;
 use meshflow::data::degrade::{Degradation, degrade};
 use meshflow::eval::metrics::{CompareOptions, compare_meshes};
@@ -14,7 +15,6 @@ use meshflow::geometry::hard_surface::hard_surface_set;
 use meshflow::geometry::sample::sample_surface;
 use meshflow::io::{Limits, read_path, write_path};
 use meshflow::pipeline::generate::GenerateOptions;
-use meshflow::pipeline::shipped::ShippedModels;
 
 fn dir() -> PathBuf {
     PathBuf::from(concat!(
@@ -70,9 +70,7 @@ fn the_fixture_files_are_the_primitives() {
 /// hard-surface inputs, with and without sharpening.
 #[test]
 fn sharpening_makes_the_hard_surface_set_flatter_and_sharper() {
-    let device = Device::flex();
-    let weights = PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/../weights"));
-    let models = ShippedModels::load(&weights, &device).unwrap();
+    let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let shapes = hard_surface_set();
     let inputs: Vec<Vec<glam::Vec3>> = shapes

@@ -5,11 +5,11 @@
 //! the defaults"). Its collapses are greedy and ordered by float costs, so without a common
 //! start two near-equal costs change places and the meshes part.
 
-use burn::tensor::Device;
+mod common;
+
 use glam::Vec3;
 use meshflow::io::{Limits, read_path};
 use meshflow::pipeline::generate::{GenerateOptions, Generated, input_points, keep_sharpened};
-use meshflow::pipeline::shipped::ShippedModels;
 
 /// `x` moved by `ulps` units in the last place (toward +inf for positive `ulps` on a
 /// positive `x`).
@@ -36,9 +36,8 @@ fn perturbed(g: &Generated) -> Generated {
 
 #[test]
 fn sharpening_is_the_same_from_positions_a_few_ulps_apart() {
-    let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."));
-    let device = Device::flex();
-    let models = ShippedModels::load(&root.join("weights"), &device).unwrap();
+    let root = common::repo_root();
+    let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let mut unsharpened = GenerateOptions {
         samples: 1,

@@ -4,7 +4,23 @@
 
 use std::path::PathBuf;
 
+use burn::tensor::Device;
+use meshflow::pipeline::shipped::ShippedModels;
 use safetensors::{Dtype, SafeTensors};
+
+/// The repository root (the folder above the crate).
+pub fn repo_root() -> PathBuf {
+    PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}
+
+/// The shipped pair (`weights/`, the files the CLI and the page run) on Burn's CPU backend,
+/// and that device.
+pub fn shipped_on_cpu() -> (ShippedModels, Device) {
+    let device = Device::flex();
+    let models = ShippedModels::load(&repo_root().join("weights"), &device)
+        .expect("the shipped weights load");
+    (models, device)
+}
 
 /// The folder holding the golden files. Missing golden files fail the tests loudly: they are
 /// the only proof that this port matches the reference.
