@@ -346,7 +346,7 @@ export class Model {
 
 // Threads the threaded module may start at most (rayon's pool; each a Web Worker sharing the
 // module's memory, no copy of the models).
-export const MAX_THREADS = 64;
+const MAX_THREADS = 64;
 // The threaded module's pool: started once per page, as rayon's global pool cannot be rebuilt.
 let threadPool = null;
 
