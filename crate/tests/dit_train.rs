@@ -33,6 +33,7 @@ fn config(steps: usize) -> DitTrainConfig {
         depth: 2,
         num_heads: 2,
         point_tokens: 0,
+        count_divisor: 0,
     });
     cfg.batch_size = 4;
     cfg.steps = steps;

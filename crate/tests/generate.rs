@@ -47,6 +47,7 @@ fn models_reading(point_tokens: usize) -> Models {
         depth: 2,
         num_heads: 2,
         point_tokens,
+        count_divisor: 0,
     };
     Models {
         vae: load_module(MeshVae::new(&vae_cfg, &device), &vae_map, &|_| false).unwrap(),

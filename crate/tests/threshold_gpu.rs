@@ -140,6 +140,7 @@ fn decoded_meshes_are_the_same_through_the_gpu_and_cpu_threshold() {
         depth: 2,
         num_heads: 2,
         point_tokens: 0,
+        count_divisor: 0,
     };
     let dit = seeded_init(Dit::new(&dit_cfg, &device), 1);
     let generator = Generator::new(&vae, &cfg, &mean, &std, &dit, &dit_cfg, &device);

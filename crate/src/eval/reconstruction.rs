@@ -105,7 +105,7 @@ pub struct VaeEvalReport {
     /// Meshes left out, and why: listed first, so a reader sees what the figures leave out.
     pub skipped: Vec<String>,
     pub all: ReconstructionSummary,
-    /// Buckets by vertex count: <= 256, <= 512, <= 1024.
+    /// Buckets by vertex count ([`crate::eval::summary::VERTEX_BUCKETS`]).
     pub buckets: Vec<(String, ReconstructionSummary)>,
     pub per_mesh: Vec<(String, ReconstructionMetrics)>,
 }

@@ -61,6 +61,11 @@ pub struct DitConfig {
     /// layout, attends to none.
     #[serde(default, skip_serializing_if = "is_zero")]
     pub point_tokens: usize,
+    /// What the vertex-count condition divides by when it is not `num_latents` (0, left out
+    /// of the JSON: `num_latents`, the reference's). A model whose capacity was raised after
+    /// training keeps the divisor it was trained with, so a count means what it meant.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub count_divisor: usize,
 }
 
 fn is_zero(n: &usize) -> bool {
@@ -68,6 +73,27 @@ fn is_zero(n: &usize) -> bool {
 }
 
 impl DitConfig {
+    /// The divisor of the vertex-count condition ([`crate::model::condition::vertex_condition`]).
+    pub fn count_scale(&self) -> usize {
+        if self.count_divisor == 0 {
+            self.num_latents
+        } else {
+            self.count_divisor
+        }
+    }
+
+    /// Whether `other`'s weights load into this configuration and mean the same: equal but
+    /// for `num_latents`, which no weight depends on (no positional embedding), as long as
+    /// the count condition divides by the same number.
+    pub fn same_shapes(&self, other: &DitConfig) -> bool {
+        let capacity_free = |c: &DitConfig| DitConfig {
+            num_latents: 0,
+            count_divisor: c.count_scale(),
+            ..c.clone()
+        };
+        capacity_free(self) == capacity_free(other)
+    }
+
     /// The golden `dit_small` configuration.
     pub fn dit_small() -> Self {
         Self {
@@ -77,6 +103,7 @@ impl DitConfig {
             depth: 4,
             num_heads: 4,
             point_tokens: 0,
+            count_divisor: 0,
         }
     }
 
@@ -491,6 +518,37 @@ impl Dit {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A DiT raised from 128 to 512 latents with the count divisor kept conditions a vertex
+    /// count as before and loads the same weights; without the divisor the condition would
+    /// change, and the field stays out of a file that does not need it.
+    #[test]
+    fn raising_the_capacity_keeps_the_count_condition() {
+        let shipped = DitConfig {
+            num_latents: 128,
+            ..DitConfig::dit_small()
+        };
+        let raised = DitConfig {
+            num_latents: 512,
+            count_divisor: 128,
+            ..shipped.clone()
+        };
+        assert_eq!(raised.count_scale(), shipped.count_scale());
+        assert!(raised.same_shapes(&shipped) && shipped.same_shapes(&raised));
+        let divisor_lost = DitConfig {
+            num_latents: 512,
+            ..shipped.clone()
+        };
+        assert!(!divisor_lost.same_shapes(&shipped));
+        assert!(
+            !serde_json::to_string(&shipped)
+                .unwrap()
+                .contains("count_divisor")
+        );
+        let round: DitConfig =
+            serde_json::from_str(&serde_json::to_string(&raised).unwrap()).unwrap();
+        assert_eq!(round, raised);
+    }
 
     #[test]
     fn point_tokens_default_to_none_and_are_bounded() {

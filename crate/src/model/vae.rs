@@ -74,6 +74,9 @@ fn is_zero(n: &usize) -> bool {
     *n == 0
 }
 
+/// The smallest length bucket (vertex slots) of a model of 512 vertices or more.
+pub const SMALLEST_BUCKET: usize = 64;
+
 impl VaeConfig {
     /// The golden `vae_small` configuration.
     pub fn vae_small() -> Self {
@@ -111,16 +114,19 @@ impl VaeConfig {
     }
 
     /// Vertex slots for a mesh of `vertices` vertices: N, or with
-    /// [`length_buckets`](Self::length_buckets) the smallest of N/8, N/4, N/2 that holds it
-    /// (each a multiple of the merge ratio; a bucket that is not is skipped).
+    /// [`length_buckets`](Self::length_buckets) the smallest power-of-two bucket from
+    /// min(N/8, 64) up that holds it (each a multiple of the merge ratio; a bucket that is not
+    /// is skipped). The smallest bucket stays 64 as N grows, so raising the capacity leaves a
+    /// small mesh's padding, and so its result, as it was.
     pub fn slots_for(&self, vertices: usize) -> usize {
         if self.length_buckets {
             let r = self.merge_ratio().max(1);
-            for div in [8, 4, 2] {
-                let slots = self.num_vertices / div;
+            let mut slots = (self.num_vertices / 8).min(SMALLEST_BUCKET);
+            while slots > 0 && slots < self.num_vertices {
                 if slots >= r && slots.is_multiple_of(r) && vertices <= slots {
                     return slots;
                 }
+                slots *= 2;
             }
         }
         self.num_vertices
@@ -189,7 +195,7 @@ impl VaeConfig {
             edge_dim: 0,
             pair_head: 0,
             tau: 0.0,
-            ..c.clone()
+            ..c.capacity_free()
         };
         decoder_free(self) == decoder_free(other)
     }
@@ -198,8 +204,8 @@ impl VaeConfig {
     /// decoder: the same shapes, with as many vertex blocks ([`Self::num_layers_vertex`]) or
     /// more (added ones start as the identity), as many edge-embedding channels or more
     /// (added ones start nearly silent, [`widen_edge_embeddings`]), and the same pair head or
-    /// a new one where it had none (it starts silent). The threshold may differ: it is not a
-    /// shape.
+    /// a new one where it had none (it starts silent). The threshold and the capacity
+    /// ([`Self::same_shapes`]) may differ: they are not shapes.
     pub fn continues_decoder_of(&self, other: &VaeConfig) -> bool {
         self.num_layers_vertex >= other.num_layers_vertex
             && self.edge_dim >= other.edge_dim
@@ -209,8 +215,25 @@ impl VaeConfig {
                 edge_dim: other.edge_dim,
                 pair_head: other.pair_head,
                 tau: other.tau,
-                ..self.clone()
-            } == *other
+                ..self.capacity_free()
+            } == other.capacity_free()
+    }
+
+    /// Whether `other`'s weights load into this configuration and mean the same: equal but
+    /// for the capacity (`num_vertices`, `num_latents` at the same merge ratio), which no
+    /// weight depends on (no positional embedding; TokenMerge acts on runs of r tokens). A
+    /// model trained at 512 vertices runs, and continues training, at 2,048.
+    pub fn same_shapes(&self, other: &VaeConfig) -> bool {
+        self.capacity_free() == other.capacity_free()
+    }
+
+    /// This configuration with the capacity taken out (the merge ratio kept).
+    fn capacity_free(&self) -> VaeConfig {
+        VaeConfig {
+            num_vertices: self.merge_ratio(),
+            num_latents: 1,
+            ..self.clone()
+        }
     }
 
     /// Checks the sizes fit together; the message names the offending field.
@@ -875,6 +898,48 @@ mod tests {
         };
         assert!(wider_edges.continues_decoder_of(&base));
         assert!(!base.continues_decoder_of(&wider_edges));
+    }
+
+    /// The shipped layout (512 vertices, 128 latents, length buckets) raised to 2,048 keeps
+    /// every bucket it had and adds 1,024 and 2,048; the two load each other's weights and
+    /// continue each other's decoder, and another merge ratio or width does not.
+    #[test]
+    fn raising_the_capacity_keeps_the_small_buckets_and_the_shapes() {
+        let shipped = VaeConfig {
+            num_vertices: 512,
+            num_latents: 128,
+            length_buckets: true,
+            ..VaeConfig::vae_small()
+        };
+        let raised = VaeConfig {
+            num_vertices: 2048,
+            num_latents: 512,
+            ..shipped.clone()
+        };
+        let counts = [1, 64, 65, 128, 200, 256, 300, 512, 513, 1024, 1025, 2048];
+        let slots = |c: &VaeConfig| counts.map(|n| c.slots_for(n));
+        assert_eq!(
+            slots(&shipped),
+            [64, 64, 128, 128, 256, 256, 512, 512, 512, 512, 512, 512]
+        );
+        assert_eq!(
+            slots(&raised),
+            [64, 64, 128, 128, 256, 256, 512, 512, 1024, 1024, 2048, 2048]
+        );
+        assert!(raised.same_shapes(&shipped) && shipped.same_shapes(&raised));
+        assert!(raised.same_encoder(&shipped));
+        assert!(raised.continues_decoder_of(&shipped));
+        let other_ratio = VaeConfig {
+            num_latents: 256,
+            ..raised.clone()
+        };
+        assert!(!other_ratio.same_shapes(&shipped));
+        assert!(!other_ratio.same_encoder(&shipped));
+        let wider = VaeConfig {
+            width_encoder: shipped.width_encoder * 2,
+            ..raised.clone()
+        };
+        assert!(!wider.same_shapes(&shipped));
     }
 
     /// Each real vertex's highest-scoring partners are candidates, each pair once and in order,

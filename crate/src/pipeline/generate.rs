@@ -528,7 +528,7 @@ impl Generator<'_> {
     ) -> Result<Prepared, GenerateError> {
         let started = Instant::now();
         let (vae, dit) = (self.vae_config, self.dit_config);
-        let (l, d) = (vae.num_latents, vae.latent_dim);
+        let d = vae.latent_dim;
         if conditioned.is_empty() {
             return Err(GenerateError::NoPoints);
         }
@@ -555,7 +555,7 @@ impl Generator<'_> {
             .collect();
         let cond: Vec<f32> = conditioned
             .iter()
-            .map(|c| vertex_condition(c.budget, l))
+            .map(|c| vertex_condition(c.budget, dit.count_scale()))
             .collect();
         // Drawn from a seed of their own (`seed ^ 0x901`): the token positions and the noise
         // draw from `seed` itself.

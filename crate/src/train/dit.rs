@@ -326,7 +326,7 @@ fn flow_draws(
         .collect();
     let cond: Vec<f32> = examples
         .iter()
-        .map(|e| vertex_condition(e.vertex_count, cfg.num_latents))
+        .map(|e| vertex_condition(e.vertex_count, cfg.count_scale()))
         .collect();
     FlowDraws {
         positions,

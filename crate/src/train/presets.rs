@@ -124,6 +124,7 @@ pub fn dit_ship(num_latents: usize, latent_dim: usize) -> DitTrainConfig {
         // them generated 0.5 CD x100 worse than its VAE reconstructs
         // (docs/experiments/2026-11-28-dit-point-attention.md).
         point_tokens: 256,
+        count_divisor: 0,
     });
     // The paper's 1e-4 is for an 895M-parameter DiT; the shipped 5.6M one was trained at 3e-4
     // (docs/experiments/2026-11-25-dit-size-sweep.md compares the two).

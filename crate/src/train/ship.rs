@@ -182,7 +182,7 @@ impl VaeRun {
                             RunError::BadInput(format!("--init {}: {e}", dir.display()))
                         })?;
                     }
-                } else if manifest.model != config.model {
+                } else if !manifest.model.same_shapes(&config.model) {
                     return Err(RunError::BadInput(format!(
                         "--init {}: its VAE configuration differs from the training \
                          configuration's{}",
@@ -326,7 +326,7 @@ impl DitRun {
                 let (manifest_bytes, bytes) = read_shipped(dir, "dit").map_err(shipped(dir))?;
                 let (_, manifest) = load_dit(&manifest_bytes, &bytes, &vae_manifest, device)
                     .map_err(|e| RunError::BadInput(format!("--init {}: {e}", dir.display())))?;
-                if manifest.model != config.model {
+                if !manifest.model.same_shapes(&config.model) {
                     return Err(RunError::BadInput(format!(
                         "--init {}: its DiT configuration differs from the training \
                          configuration's",
