@@ -66,6 +66,19 @@ pub fn cpu() -> Result<Device, String> {
     Ok(Device::flex())
 }
 
+/// Whether `device` is Burn's CPU backend (flex), where a batch is worth splitting over
+/// threads; a GPU takes it whole.
+#[cfg(feature = "cpu")]
+pub fn is_cpu(device: &Device) -> bool {
+    *device == Device::flex()
+}
+
+/// Without the `cpu` feature there is no CPU device.
+#[cfg(not(feature = "cpu"))]
+pub fn is_cpu(_device: &Device) -> bool {
+    false
+}
+
 /// Without the `cpu` feature (the WebGPU browser module, whose CPU path is the separate
 /// meshflow_cpu module) there is no CPU backend.
 #[cfg(not(feature = "cpu"))]

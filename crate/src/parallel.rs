@@ -30,3 +30,68 @@ where
         .map(|(k, t)| f(k, t))
         .collect()
 }
+
+/// The threads [`map_in_parallel`] and [`in_parts`] spread work over: rayon's pool.
+#[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
+pub(crate) fn threads() -> usize {
+    rayon::current_num_threads()
+}
+
+/// `items` cut into at most `parts` contiguous runs of nearly equal length (the first runs one
+/// longer), results in order: `first` takes the first run on the calling thread, so it may
+/// hold what cannot cross threads (a progress callback), while `rest` takes each of the others
+/// on rayon's threads at the same time.
+#[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
+pub(crate) fn in_parts<T, R>(
+    items: Vec<T>,
+    parts: usize,
+    first: impl FnOnce(Vec<T>) -> R,
+    rest: impl Fn(Vec<T>) -> R + Sync,
+) -> Vec<R>
+where
+    T: Send,
+    R: Send,
+{
+    let parts = parts.clamp(1, items.len().max(1));
+    let (short, long) = (items.len() / parts, items.len() % parts);
+    let mut runs: Vec<Vec<T>> = Vec::with_capacity(parts);
+    let mut items = items.into_iter();
+    for k in 0..parts {
+        runs.push(items.by_ref().take(short + usize::from(k < long)).collect());
+    }
+    let head = runs.remove(0);
+    let mut outs: Vec<Option<R>> = (0..runs.len()).map(|_| None).collect();
+    let rest = &rest;
+    let head_out = rayon::in_place_scope(|scope| {
+        for (run, slot) in runs.into_iter().zip(outs.iter_mut()) {
+            scope.spawn(move |_| *slot = Some(rest(run)));
+        }
+        first(head)
+    });
+    std::iter::once(head_out)
+        .chain(outs.into_iter().map(|o| o.expect("every run ran")))
+        .collect()
+}
+
+#[cfg(all(test, any(not(target_arch = "wasm32"), feature = "threads")))]
+mod tests {
+    use super::*;
+
+    /// Every item lands in exactly one run, in order, and the runs differ by at most one item.
+    #[test]
+    fn in_parts_keeps_order_and_balances_the_runs() {
+        for (n, parts) in [(12, 2), (12, 5), (3, 8), (1, 1), (0, 3), (7, 3)] {
+            let runs = in_parts((0..n).collect(), parts, |r: Vec<usize>| r, |r| r);
+            let flat: Vec<usize> = runs.iter().flatten().copied().collect();
+            assert_eq!(flat, (0..n).collect::<Vec<_>>(), "{n} in {parts}");
+            let (lo, hi) = (
+                runs.iter().map(Vec::len).min().unwrap(),
+                runs.iter().map(Vec::len).max().unwrap(),
+            );
+            assert!(
+                hi - lo <= 1 && runs.len() <= parts.max(1),
+                "{n} in {parts}: {runs:?}"
+            );
+        }
+    }
+}

@@ -55,3 +55,38 @@ fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
         );
     }
 }
+
+/// On the CPU the generator draws a batch in one run per thread at once; the meshes are the
+/// ones a single thread draws in one batch (the default path: 12 candidates, sharpening on).
+#[test]
+fn runs_on_threads_give_the_single_threaded_mesh() {
+    let root = common::repo_root();
+    let (models, device) = common::shipped_on_cpu();
+    let generator = models.generator(&device);
+    let mesh = read_path(
+        &root.join("tests/fixtures/points/stone_lantern_2048.ply"),
+        &Limits::default(),
+    )
+    .unwrap();
+    let points = vec![input_points(&mesh, 0).unwrap()];
+    let opts = GenerateOptions::default();
+    let generate = || {
+        generator
+            .generate(&points, &opts, &mut |_, _| true)
+            .unwrap()
+            .remove(0)
+    };
+    let threads = rayon::ThreadPoolBuilder::new()
+        .num_threads(3)
+        .build()
+        .unwrap()
+        .install(generate);
+    let single = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap()
+        .install(generate);
+    assert_eq!(threads.mesh.faces, single.mesh.faces);
+    assert_eq!(threads.mesh.positions, single.mesh.positions);
+    assert_eq!(threads.input_score, single.input_score);
+}

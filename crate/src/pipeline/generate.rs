@@ -186,6 +186,20 @@ pub struct StageTimes {
     pub fit_s: f64,
 }
 
+impl StageTimes {
+    /// The times of two runs of one batch that ran at the same time: the conditioning, done
+    /// per input, adds up; every other stage lasts as long as the longer run's.
+    pub fn beside(&self, other: &StageTimes) -> StageTimes {
+        StageTimes {
+            condition_s: self.condition_s + other.condition_s,
+            sample_s: self.sample_s.max(other.sample_s),
+            decode_s: self.decode_s.max(other.decode_s),
+            extract_s: self.extract_s.max(other.extract_s),
+            fit_s: self.fit_s.max(other.fit_s),
+        }
+    }
+}
+
 /// One generated mesh, in the input's frame.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Generated {
@@ -444,8 +458,80 @@ impl Generator<'_> {
     }
 
     /// [`Self::generate`] for conditioned inputs that share one length, input `k` seeded by
-    /// `seeds[k]`.
+    /// `seeds[k]`: on the CPU, in one run per thread at once (a row does not depend on the
+    /// rest of its batch, `tests/candidate_split.rs`, so the meshes are the one batch's). Two
+    /// runs of 6 candidates on one thread each beat one batch of 12 on two: the model's
+    /// element-wise work and attention, which Burn's CPU backend runs on one thread, then run
+    /// on both (docs/experiments/2026-12-04-wasm-threads-build.md).
+    #[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
     fn generate_batch(
+        &self,
+        conditioned: Vec<Conditioned>,
+        seeds: &[u64],
+        opts: &GenerateOptions,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
+        use std::sync::atomic::{AtomicBool, Ordering};
+        let runs = if crate::device::is_cpu(self.device) {
+            crate::parallel::threads().min(conditioned.len())
+        } else {
+            1
+        };
+        if runs <= 1 {
+            return self.generate_run(conditioned, seeds, opts, on_step);
+        }
+        // The first run reports progress; a cancel there stops the others at their next step.
+        let cancelled = AtomicBool::new(false);
+        let items: Vec<(Conditioned, u64)> = conditioned.into_iter().zip(seeds.to_vec()).collect();
+        let outs = crate::parallel::in_parts(
+            items,
+            runs,
+            |run| {
+                let (c, s): (Vec<Conditioned>, Vec<u64>) = run.into_iter().unzip();
+                self.generate_run(c, &s, opts, &mut |i, n| {
+                    let go = !cancelled.load(Ordering::Relaxed) && on_step(i, n);
+                    if !go {
+                        cancelled.store(true, Ordering::Relaxed);
+                    }
+                    go
+                })
+            },
+            |run| {
+                let (c, s): (Vec<Conditioned>, Vec<u64>) = run.into_iter().unzip();
+                self.generate_run(c, &s, opts, &mut |_, _| !cancelled.load(Ordering::Relaxed))
+            },
+        );
+        let mut all = Vec::new();
+        let mut times = StageTimes::default();
+        for out in outs {
+            let out = out?;
+            if let Some(g) = out.first() {
+                times = times.beside(&g.times);
+            }
+            all.extend(out);
+        }
+        for g in &mut all {
+            g.times = times.clone();
+        }
+        Ok(all)
+    }
+
+    /// [`Self::generate`] for conditioned inputs that share one length (no threads to split
+    /// them over in this module).
+    #[cfg(all(target_arch = "wasm32", not(feature = "threads")))]
+    fn generate_batch(
+        &self,
+        conditioned: Vec<Conditioned>,
+        seeds: &[u64],
+        opts: &GenerateOptions,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
+        self.generate_run(conditioned, seeds, opts, on_step)
+    }
+
+    /// [`Self::generate_batch`] as one batch on this thread (the model's matrix products still
+    /// use every thread).
+    fn generate_run(
         &self,
         conditioned: Vec<Conditioned>,
         seeds: &[u64],
