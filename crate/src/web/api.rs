@@ -34,8 +34,8 @@ use crate::model::{add_pair_corrections, spacetime_distances};
 #[cfg(feature = "cpu")]
 use crate::pipeline::generate::check_samples;
 use crate::pipeline::generate::{
-    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, input_points,
-    keep_sharpened, kept_slots, read_bits,
+    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, Prepared,
+    input_points, keep_sharpened, kept_slots, read_bits,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(any(feature = "wgpu", feature = "webgl"))]
@@ -301,7 +301,10 @@ impl MeshFlow {
     }
 
     /// Candidates `first..first + count` of `opts.samples`, one batch row each, seeded by
-    /// `opts.seed + first + row`: stages 1 to 5 with asynchronous readback.
+    /// `opts.seed + first + row`: stages 1 to 5 with asynchronous readback. In the threaded
+    /// module the rows are drawn in one run per thread, the runs' sampler steps side by side
+    /// (as `meshflow generate` draws them natively); rows do not depend on their batch, so the
+    /// candidates are the same.
     async fn candidates(
         &self,
         points: &[Vec3],
@@ -310,30 +313,26 @@ impl MeshFlow {
         count: usize,
         on_step: Option<js_sys::Function>,
     ) -> Result<Vec<Generated>, JsError> {
-        let opts = &GenerateOptions {
-            seed: opts.seed + first as u64,
-            samples: count,
-            ..opts.clone()
-        };
         let generator = self.generator();
-        let rows = vec![points.to_vec(); count];
-        let mut prepared = generator.prepare(&rows, opts).map_err(js_error)?;
+        let runs = candidate_runs(first, count);
+        let mut prepared = Vec::with_capacity(runs.len());
+        for &(run_first, run_count) in &runs {
+            let run_opts = GenerateOptions {
+                seed: opts.seed + run_first as u64,
+                samples: run_count,
+                ..opts.clone()
+            };
+            let rows = vec![points.to_vec(); run_count];
+            prepared.push(generator.prepare(&rows, &run_opts).map_err(js_error)?);
+        }
 
         let started = Instant::now();
         let times = step_times(opts.steps, opts.schedule);
-        let mut x = prepared.noise.clone();
+        let mut xs: Vec<Tensor<3>> = prepared.iter().map(|p| p.noise.clone()).collect();
         for i in 0..opts.steps {
-            x = step(
-                &self.models.dit,
-                opts.solver,
-                x,
-                times[i],
-                times[i + 1],
-                prepared.cond.clone(),
-                &prepared.condition,
-            );
+            xs = self.step_runs(xs, &prepared, opts, times[i], times[i + 1]);
             // Wait for this step on the device (one value back), then let the event loop run.
-            read(x.clone().slice([0..1, 0..1, 0..1])).await?;
+            read(xs[0].clone().slice([0..1, 0..1, 0..1])).await?;
             yield_to_event_loop().await;
             if let Some(f) = &on_step {
                 let go = f
@@ -348,8 +347,58 @@ impl MeshFlow {
                 }
             }
         }
-        prepared.times.sample_s = started.elapsed().as_secs_f64();
+        let sample_s = started.elapsed().as_secs_f64();
 
+        let mut candidates = Vec::with_capacity(count);
+        for ((mut prepared, x), &(run_first, run_count)) in prepared.into_iter().zip(xs).zip(&runs)
+        {
+            prepared.times.sample_s = sample_s;
+            let run_opts = GenerateOptions {
+                seed: opts.seed + run_first as u64,
+                samples: run_count,
+                ..opts.clone()
+            };
+            candidates.extend(self.decode_run(&generator, prepared, x, &run_opts).await?);
+        }
+        Ok(candidates)
+    }
+
+    /// One sampler step of every run: side by side on rayon's threads in the threaded module,
+    /// in turn elsewhere (where there is one run).
+    fn step_runs(
+        &self,
+        xs: Vec<Tensor<3>>,
+        prepared: &[Prepared],
+        opts: &GenerateOptions,
+        t: f32,
+        t_next: f32,
+    ) -> Vec<Tensor<3>> {
+        let dit = &self.models.dit;
+        let one = |(r, x): (usize, Tensor<3>)| {
+            let p = &prepared[r];
+            step(dit, opts.solver, x, t, t_next, p.cond.clone(), &p.condition)
+        };
+        #[cfg(feature = "threads")]
+        if xs.len() > 1 {
+            let parts = xs.len();
+            let items: Vec<(usize, Tensor<3>)> = xs.into_iter().enumerate().collect();
+            let each = |run: Vec<(usize, Tensor<3>)>| run.into_iter().map(one).collect::<Vec<_>>();
+            return crate::parallel::in_parts(items, parts, each, each)
+                .into_iter()
+                .flatten()
+                .collect();
+        }
+        xs.into_iter().enumerate().map(one).collect()
+    }
+
+    /// Stages 3 to 5 of one run of candidates sampled to `x`, with asynchronous readback.
+    async fn decode_run(
+        &self,
+        generator: &Generator<'_>,
+        mut prepared: Prepared,
+        x: Tensor<3>,
+        opts: &GenerateOptions,
+    ) -> Result<Vec<Generated>, JsError> {
         let started = Instant::now();
         let out = generator.decode(x, &opts.extract);
         let mask_logits = read(out.mask_logits).await?;
@@ -386,6 +435,25 @@ impl MeshFlow {
         prepared.times.decode_s = started.elapsed().as_secs_f64();
         generator.extract(prepared, &host, opts).map_err(js_error)
     }
+}
+
+/// The runs `(first, count)` that candidates `first..first + count` are drawn in: one per
+/// thread of the threaded module's pool (contiguous, the first ones one longer), one
+/// elsewhere.
+fn candidate_runs(first: usize, count: usize) -> Vec<(usize, usize)> {
+    #[cfg(feature = "threads")]
+    let parts = crate::parallel::threads().clamp(1, count.max(1));
+    #[cfg(not(feature = "threads"))]
+    let parts = 1;
+    let (short, long) = (count / parts, count % parts);
+    let mut runs = Vec::with_capacity(parts);
+    let mut next = first;
+    for k in 0..parts {
+        let n = short + usize::from(k < long);
+        runs.push((next, n));
+        next += n;
+    }
+    runs
 }
 
 /// `points` as x, y, z triples.
