@@ -1,10 +1,12 @@
-"""A copy of a shard build with only its train and val meshes of <= 512 vertices (all that VAE
-training reads), small enough to carry to a GPU machine:
-`python3 compact_data.py SHARDS OUT` (SHARDS: ~/.cache/meshflow/data/shards)."""
+"""A copy of a shard build with only its train and val meshes of at most MAX_VERTICES vertices
+(512 by default; all that training a model of that capacity reads), small enough to carry to a
+GPU machine: `python3 compact_data.py SHARDS OUT [MAX_VERTICES]` (SHARDS:
+~/.cache/meshflow/data/shards)."""
 import json, shutil, struct, sys, os, numpy as np
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), '..'))
 from shards import meshes, shard_metadata
 src, dst = sys.argv[1], sys.argv[2]
+max_vertices = int(sys.argv[3]) if len(sys.argv) > 3 else 512
 os.makedirs(dst, exist_ok=True)
 def write(path, t, meta):
     names = {np.dtype(np.float32): 'F32', np.dtype(np.uint32): 'U32', np.dtype(np.uint64): 'U64'}
@@ -16,7 +18,7 @@ def write(path, t, meta):
         f.write(struct.pack('<Q', len(hb))); f.write(hb); [f.write(x) for x in blobs]
 out = {'train': {'pos': [], 'faces': [], 'vo': [0], 'fo': [0]}, 'val': {'pos': [], 'faces': [], 'vo': [0], 'fo': [0]}}
 new_entries = []
-for e, p, f in meshes(src, ('train', 'val'), 512):
+for e, p, f in meshes(src, ('train', 'val'), max_vertices):
     o = out[e['split']]; e = dict(e); e['shard'] = f"{e['split']}-00000.safetensors"; e['index'] = len(o['vo']) - 1
     o['pos'].append(p); o['faces'].append(f); o['vo'].append(o['vo'][-1] + len(p)); o['fo'].append(o['fo'][-1] + len(f)); new_entries.append(e)
 meta = shard_metadata(os.path.join(src, json.loads(open(f'{src}/manifest.jsonl').readline())['shard']))
