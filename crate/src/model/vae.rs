@@ -221,10 +221,16 @@ impl VaeConfig {
 
     /// Whether `other`'s weights load into this configuration and mean the same: equal but
     /// for the capacity (`num_vertices`, `num_latents` at the same merge ratio), which no
-    /// weight depends on (no positional embedding; TokenMerge acts on runs of r tokens). A
-    /// model trained at 512 vertices runs, and continues training, at 2,048.
+    /// weight depends on (no positional embedding; TokenMerge acts on runs of r tokens), and
+    /// the threshold (a trained model's is its extraction threshold, a training
+    /// configuration's its loss margin). A model trained at 512 vertices runs, and continues
+    /// training, at 2,048.
     pub fn same_shapes(&self, other: &VaeConfig) -> bool {
-        self.capacity_free() == other.capacity_free()
+        let untuned = |c: &VaeConfig| VaeConfig {
+            tau: 0.0,
+            ..c.capacity_free()
+        };
+        untuned(self) == untuned(other)
     }
 
     /// This configuration with the capacity taken out (the merge ratio kept).
@@ -927,6 +933,11 @@ mod tests {
             [64, 64, 128, 128, 256, 256, 512, 512, 1024, 1024, 2048, 2048]
         );
         assert!(raised.same_shapes(&shipped) && shipped.same_shapes(&raised));
+        let trained = VaeConfig {
+            tau: -2.5,
+            ..shipped.clone()
+        };
+        assert!(raised.same_shapes(&trained));
         assert!(raised.same_encoder(&shipped));
         assert!(raised.continues_decoder_of(&shipped));
         let other_ratio = VaeConfig {
