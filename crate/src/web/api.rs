@@ -314,16 +314,19 @@ impl MeshFlow {
         on_step: Option<js_sys::Function>,
     ) -> Result<Vec<Generated>, JsError> {
         let generator = self.generator();
-        let runs = candidate_runs(first, count);
-        let mut prepared = Vec::with_capacity(runs.len());
-        for &(run_first, run_count) in &runs {
-            let run_opts = GenerateOptions {
+        // Each run as a batch of its own: its rows seeded by seed + their candidate index.
+        let runs: Vec<GenerateOptions> = candidate_runs(first, count)
+            .into_iter()
+            .map(|(run_first, run_count)| GenerateOptions {
                 seed: opts.seed + run_first as u64,
                 samples: run_count,
                 ..opts.clone()
-            };
-            let rows = vec![points.to_vec(); run_count];
-            prepared.push(generator.prepare(&rows, &run_opts).map_err(js_error)?);
+            })
+            .collect();
+        let mut prepared = Vec::with_capacity(runs.len());
+        for run in &runs {
+            let rows = vec![points.to_vec(); run.samples];
+            prepared.push(generator.prepare(&rows, run).map_err(js_error)?);
         }
 
         let started = Instant::now();
@@ -350,15 +353,9 @@ impl MeshFlow {
         let sample_s = started.elapsed().as_secs_f64();
 
         let mut candidates = Vec::with_capacity(count);
-        for ((mut prepared, x), &(run_first, run_count)) in prepared.into_iter().zip(xs).zip(&runs)
-        {
+        for ((mut prepared, x), run) in prepared.into_iter().zip(xs).zip(&runs) {
             prepared.times.sample_s = sample_s;
-            let run_opts = GenerateOptions {
-                seed: opts.seed + run_first as u64,
-                samples: run_count,
-                ..opts.clone()
-            };
-            candidates.extend(self.decode_run(&generator, prepared, x, &run_opts).await?);
+            candidates.extend(self.decode_run(&generator, prepared, x, run).await?);
         }
         Ok(candidates)
     }
