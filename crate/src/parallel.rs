@@ -37,8 +37,15 @@ pub(crate) fn threads() -> usize {
     rayon::current_num_threads()
 }
 
-/// `items` cut into at most `parts` contiguous runs of nearly equal length (the first runs one
-/// longer), results in order: `first` takes the first run on the calling thread, so it may
+/// The lengths of the contiguous runs that `count` items are cut into for `parts` workers: at
+/// most `parts` runs (at least one), of nearly equal length, the first ones one longer.
+pub(crate) fn run_lengths(count: usize, parts: usize) -> Vec<usize> {
+    let parts = parts.clamp(1, count.max(1));
+    let (short, long) = (count / parts, count % parts);
+    (0..parts).map(|k| short + usize::from(k < long)).collect()
+}
+
+/// `items` cut into [`run_lengths`] runs, results in order: `first` takes the first run on the calling thread, so it may
 /// hold what cannot cross threads (a progress callback), while `rest` takes each of the others
 /// on rayon's threads at the same time.
 #[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
@@ -52,13 +59,11 @@ where
     T: Send,
     R: Send,
 {
-    let parts = parts.clamp(1, items.len().max(1));
-    let (short, long) = (items.len() / parts, items.len() % parts);
-    let mut runs: Vec<Vec<T>> = Vec::with_capacity(parts);
+    let lengths = run_lengths(items.len(), parts);
     let mut items = items.into_iter();
-    for k in 0..parts {
-        runs.push(items.by_ref().take(short + usize::from(k < long)).collect());
-    }
+    let mut runs: Vec<Vec<T>> = (lengths.iter())
+        .map(|&n| items.by_ref().take(n).collect())
+        .collect();
     let head = runs.remove(0);
     let mut outs: Vec<Option<R>> = (0..runs.len()).map(|_| None).collect();
     let rest = &rest;

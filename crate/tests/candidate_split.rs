@@ -4,20 +4,13 @@
 
 mod common;
 
-use meshflow::io::{Limits, read_path};
-use meshflow::pipeline::generate::{GenerateOptions, input_points};
+use meshflow::pipeline::generate::GenerateOptions;
 
 #[test]
 fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
-    let root = common::repo_root();
     let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
-    let mesh = read_path(
-        &root.join("tests/fixtures/points/stone_lantern_2048.ply"),
-        &Limits::default(),
-    )
-    .unwrap();
-    let points = input_points(&mesh, 0).unwrap();
+    let points = common::lantern_points();
     let mut one = GenerateOptions {
         samples: 1,
         ..GenerateOptions::default()
@@ -60,15 +53,9 @@ fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
 /// ones a single thread draws in one batch (the default path: 12 candidates, sharpening on).
 #[test]
 fn runs_on_threads_give_the_single_threaded_mesh() {
-    let root = common::repo_root();
     let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
-    let mesh = read_path(
-        &root.join("tests/fixtures/points/stone_lantern_2048.ply"),
-        &Limits::default(),
-    )
-    .unwrap();
-    let points = vec![input_points(&mesh, 0).unwrap()];
+    let points = vec![common::lantern_points()];
     let opts = GenerateOptions::default();
     let generate = || {
         generator

@@ -4,8 +4,7 @@
 
 mod common;
 
-use meshflow::io::{Limits, read_path};
-use meshflow::pipeline::generate::{GenerateError, GenerateOptions, input_points};
+use meshflow::pipeline::generate::{GenerateError, GenerateOptions};
 use meshflow::pipeline::shipped::ShippedModels;
 use serde_json::Value;
 
@@ -39,12 +38,7 @@ fn raised(vertices: usize, device: &burn::tensor::Device) -> ShippedModels {
 fn a_raised_capacity_keeps_small_meshes_and_makes_larger_ones() {
     let (shipped, device) = common::shipped_on_cpu();
     let big = raised(2048, &device);
-    let mesh = read_path(
-        &common::repo_root().join("tests/fixtures/points/stone_lantern_2048.ply"),
-        &Limits::default(),
-    )
-    .unwrap();
-    let points = vec![input_points(&mesh, 0).unwrap()];
+    let points = vec![common::lantern_points()];
     let opts = GenerateOptions {
         samples: 3,
         ..GenerateOptions::default()

@@ -439,18 +439,16 @@ impl MeshFlow {
 /// elsewhere.
 fn candidate_runs(first: usize, count: usize) -> Vec<(usize, usize)> {
     #[cfg(feature = "threads")]
-    let parts = crate::parallel::threads().clamp(1, count.max(1));
+    let parts = crate::parallel::threads();
     #[cfg(not(feature = "threads"))]
     let parts = 1;
-    let (short, long) = (count / parts, count % parts);
-    let mut runs = Vec::with_capacity(parts);
     let mut next = first;
-    for k in 0..parts {
-        let n = short + usize::from(k < long);
-        runs.push((next, n));
-        next += n;
-    }
-    runs
+    (crate::parallel::run_lengths(count, parts).into_iter())
+        .map(|n| {
+            next += n;
+            (next - n, n)
+        })
+        .collect()
 }
 
 /// `points` as x, y, z triples.

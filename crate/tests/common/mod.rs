@@ -22,6 +22,15 @@ pub fn shipped_on_cpu() -> (ShippedModels, Device) {
     (models, device)
 }
 
+/// The bundled lantern scan (`tests/fixtures/points/stone_lantern_2048.ply`) as the
+/// generation's input points (seed 0).
+pub fn lantern_points() -> Vec<glam::Vec3> {
+    use meshflow::io::{Limits, read_path};
+    let path = repo_root().join("tests/fixtures/points/stone_lantern_2048.ply");
+    let mesh = read_path(&path, &Limits::default()).expect("the lantern scan reads");
+    meshflow::pipeline::generate::input_points(&mesh, 0).expect("the lantern has points")
+}
+
 /// The folder holding the golden files. Missing golden files fail the tests loudly: they are
 /// the only proof that this port matches the reference.
 pub fn golden_dir() -> PathBuf {
