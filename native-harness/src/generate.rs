@@ -188,6 +188,10 @@ pub struct SamplingArgs {
     /// the sharpened one nearest them.
     #[arg(long, default_value_t = SharpenOptions::default().candidates)]
     sharpen_candidates: usize,
+    /// Sharpening: steps of reach in each round, in which the input points the mesh does not
+    /// come near draw it out along the surface (0: none).
+    #[arg(long, default_value_t = SharpenOptions::default().reach_steps)]
+    sharpen_reach_steps: usize,
     #[command(flatten)]
     backend: BackendArg,
 }
@@ -248,6 +252,7 @@ impl SamplingArgs {
                 passes: self.sharpen_passes,
                 accept_ratio: self.sharpen_accept,
                 candidates: self.sharpen_candidates,
+                reach_steps: self.sharpen_reach_steps,
                 ..SharpenOptions::default()
             },
         }

@@ -1066,11 +1066,14 @@ pub fn sharpen_kept(
     // that the limit is the same bits everywhere too.
     let before = input_score(&mesh, g.topology.holes, points, planes);
     let limit = opts.sharpen.accept_ratio * before;
+    // Sharpening keeps no round with more folded edges than the mesh it was given, which is
+    // the snapped one: where the grid folded a near-flat pair, the fitted mesh's count holds.
+    let folded_limit = g.topology.folded_edges;
     let mut last = None;
     let mut report = sharpen_judged(&mut mesh, planes, &opts.sharpen, |m| {
         let topology = TopologyReport::of(m);
         let score = input_score(m, topology.holes, points, planes);
-        let ok = score <= limit;
+        let ok = score <= limit && topology.folded_edges <= folded_limit;
         if ok || last.is_none() {
             last = Some((score, topology));
         }

@@ -14,6 +14,9 @@
 //!    truncated ([`Quadric::minimiser_near`], as dual contouring does): on a flat region the
 //!    vertex moves across the plane only; next to a crease it snaps onto the crease line,
 //!    next to a corner onto the corner. A move that would flip or fold a face is shortened.
+//!    Then **reach**: the input points more than two spacings from the mesh pull the faces
+//!    nearest them, along the surface only (`reach_steps` steps), so that an edge of the
+//!    model's mesh that stops short of the input (a wedge's thin end) slides out to it.
 //! 3. **Quadric decimation.** Garland and Heckbert's edge collapses, each vertex's quadric
 //!    the planes of the input points nearest it, cheapest first, guarded by the link
 //!    condition and a turn limit ([`EditMesh::can_collapse`]), down to the face count the
@@ -93,6 +96,9 @@ pub struct SharpenOptions {
     /// this many times the fitted mesh's (`pipeline::generate::sharpen_kept`; 1: never
     /// farther).
     pub accept_ratio: f64,
+    /// Steps of reach in each round: the input points that the mesh does not come near
+    /// ([`REACH_SPACINGS`]) draw the faces nearest them out along the surface (0: none).
+    pub reach_steps: usize,
     /// Generation sharpens this many of its candidates, the nearest the input points first,
     /// and keeps the sharpened one nearest them (`pipeline::generate::keep_sharpened`; 1: only
     /// the candidate kept before sharpening).
@@ -113,6 +119,7 @@ impl Default for SharpenOptions {
             passes: 8,
             accept_ratio: 1.0,
             candidates: 1,
+            reach_steps: 1,
         }
     }
 }
@@ -470,6 +477,11 @@ pub fn sharpen_judged(
             }
         });
         hold_back(&mut m, &before);
+        // 2b. Reach: out to the input the model's mesh stops short of.
+        let far = (REACH_SPACINGS * planes.spacing).max(3.0 * planes.rms_off_plane);
+        for _ in 0..opts.reach_steps {
+            reach(&mut m, &points, far, REACH_SPACINGS * planes.spacing);
+        }
 
         // 3. Decimation on the input's planes: each vertex's quadric holds the planes of the
         // points nearest it.
@@ -601,6 +613,50 @@ fn hold_back(m: &mut EditMesh, before: &[DVec3]) {
             p.as_dvec3()
         };
     }
+}
+
+/// How far, in point spacings, an input point must be from the mesh to draw it out
+/// ([`reach`]), and how far a vertex moves at most in one step of it.
+const REACH_SPACINGS: f64 = 2.0;
+
+/// One step of reach: each input point farther than `far` from its nearest face (the
+/// distance of Hoppe et al.'s mesh optimisation) pulls that face's vertices towards it by its
+/// barycentric weights; each vertex moves by the weighted mean pull, its component along the
+/// vertex's normal removed, at most `step`, and a move that would flip or fold a face is
+/// shortened ([`hold_back`]). Along the surface only: an edge of the mesh that stops short of
+/// the input (a wedge's thin end, the end of an arm) slides out to it over the rounds, while
+/// where the surface lies stays placement's business, so a point off the surface (noise, a
+/// part the model left out) cannot raise a spike. Points the mesh is near pull nothing.
+fn reach(m: &mut EditMesh, points: &[DVec3], far: f64, step: f64) {
+    let coverage = Coverage::new(m, points);
+    let mut pull = vec![(DVec3::ZERO, 0.0); m.positions.len()];
+    for (f, near) in coverage.of_face.iter().enumerate() {
+        let Some(face) = m.faces[f] else { continue };
+        let t = m.corners(face);
+        for &p in near.iter().filter(|&&p| coverage.now[p as usize] > far) {
+            let y = points[p as usize];
+            let w = closest_point_weights(y, t);
+            let off = y - (t[0] * w[0] + t[1] * w[1] + t[2] * w[2]);
+            for (&v, w) in face.iter().zip(w) {
+                pull[v as usize].0 += off * w;
+                pull[v as usize].1 += w;
+            }
+        }
+    }
+    let before = m.positions.clone();
+    for (v, &(sum, weight)) in pull.iter().enumerate() {
+        if weight <= 0.0 {
+            continue;
+        }
+        let normal = (m.faces_of(v as u32).iter())
+            .map(|&f| face_normal(m, m.faces[f as usize].expect("live")))
+            .sum::<DVec3>()
+            .normalize_or_zero();
+        let mean = sum / weight;
+        let along = mean - normal * normal.dot(mean);
+        m.positions[v] += along * (step / along.length().max(step));
+    }
+    hold_back(m, &before);
 }
 
 /// The squared probe distances of the two faces `(a, b, c)` and `(b, a, d)` on the edge
