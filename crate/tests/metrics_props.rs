@@ -62,7 +62,7 @@ proptest! {
     #![proptest_config(ProptestConfig::with_cases(64))]
 
     #[test]
-    fn rtree_matches_brute_force(a in points(40), b in points(40)) {
+    fn nearest_matches_brute_force(a in points(40), b in points(40)) {
         let d = chamfer_hausdorff(&a, &b).unwrap();
         let (am, ax) = brute_one_sided(&a, &b);
         let (bm, bx) = brute_one_sided(&b, &a);

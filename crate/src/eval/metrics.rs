@@ -9,19 +9,19 @@
 //! - [`edge_scores`]: precision / recall / F1 of an undirected edge set (paper Table 3).
 //! - [`vertex_distance`] / [`normal_distance`]: mean L2 between corresponding rows (Table 3).
 //!
-//! Nearest neighbours come from an [`rstar`] R-tree bulk-loaded with `f64` coordinates, so a
-//! distance is exactly what a brute-force search in `f64` gives.
+//! Nearest neighbours come from [`PointIndex`] (a k-d tree in `f32`) and each distance is then
+//! measured in `f64`: what a brute-force search in `f64` gives, except where two points are
+//! nearest within `f32`'s rounding (then either one's distance, the same to about 1e-7).
 
 use std::fmt;
 
 use glam::Vec3;
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::geometry::features::{SHARP_ANGLE_DEG, sharp_edges};
 use crate::geometry::mesh::MeshError;
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::normalize::Normalization;
 use crate::geometry::sample::{
     MAX_SAMPLES, SampleError, sample_segments, sample_surface, subsample_indices,
@@ -69,8 +69,6 @@ pub struct Distances {
     pub b_to_a_max: f64,
 }
 
-type Indexed = GeomWithData<[f64; 3], u32>;
-
 fn to_f64(p: Vec3) -> [f64; 3] {
     [p.x as f64, p.y as f64, p.z as f64]
 }
@@ -85,25 +83,18 @@ fn check_set(points: &[Vec3], which: &'static str) -> Result<(), MetricsError> {
     }
 }
 
-/// An R-tree over `points` (non-empty, finite) whose entries carry their row index.
-fn tree(points: &[Vec3]) -> RTree<Indexed> {
-    RTree::bulk_load(
-        points
-            .iter()
-            .enumerate()
-            .map(|(i, &p)| GeomWithData::new(to_f64(p), i as u32))
-            .collect(),
-    )
-}
-
-/// For each point of `from`, the row of its nearest point in `to` and the distance to it.
-fn nearest(from: &[Vec3], to: &RTree<Indexed>) -> Vec<(u32, f64)> {
+/// For each point of `from`, the row of its nearest point in `to` (non-empty, finite) and the
+/// distance to it (in double precision).
+fn nearest(from: &[Vec3], to: &[Vec3]) -> Vec<(u32, f64)> {
+    let index = PointIndex::new(to);
     from.iter()
         .map(|&p| {
-            let q = to_f64(p);
             // `to` is never empty here, so there always is a nearest neighbour.
-            to.nearest_neighbor_with_distance_2(q)
-                .map_or((u32::MAX, f64::INFINITY), |(n, d2)| (n.data, d2.sqrt()))
+            index
+                .nearest(p)
+                .map_or((u32::MAX, f64::INFINITY), |(row, q, _)| {
+                    (row, p.as_dvec3().distance(q.as_dvec3()))
+                })
         })
         .collect()
 }
@@ -125,8 +116,8 @@ impl Matching {
         check_set(a, "first")?;
         check_set(b, "second")?;
         Ok(Matching {
-            a_to_b: nearest(a, &tree(b)),
-            b_to_a: nearest(b, &tree(a)),
+            a_to_b: nearest(a, b),
+            b_to_a: nearest(b, a),
         })
     }
 

@@ -13,6 +13,7 @@
 
 use glam::DVec3;
 
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::topology::folds;
 
 /// A manifold triangle mesh under local edits (see the module documentation).
@@ -72,6 +73,15 @@ impl EditMesh {
     /// Live faces.
     pub fn face_count(&self) -> usize {
         self.faces.iter().flatten().count()
+    }
+
+    /// The live vertices (those with a face), indexed by position for nearest queries.
+    pub fn vertex_index(&self) -> PointIndex {
+        PointIndex::with_ids(
+            (0..self.positions.len() as u32)
+                .filter(|&v| !self.faces_of(v).is_empty())
+                .map(|v| (v, self.positions[v as usize].as_vec3())),
+        )
     }
 
     /// The live faces of vertex `v`.

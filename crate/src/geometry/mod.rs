@@ -12,6 +12,8 @@ pub mod hard_surface;
 /// A mesh's summary figures (`meshflow inspect`).
 pub mod inspect;
 pub mod mesh;
+/// Nearest points of a fixed set (a k-d tree): every stage after extraction asks it.
+pub mod nearest;
 pub mod normalize;
 pub mod normals;
 pub mod primitives;

@@ -25,10 +25,9 @@
 //! docs/experiments/2026-11-29-budget-planar-share.md).
 
 use glam::{DVec3, Vec3};
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::voxel::voxel_index;
 use crate::rng::Rng;
@@ -92,21 +91,15 @@ pub fn shape_features(points: &[Vec3], seed: u64) -> ShapeFeatures {
             planar_share: 0.0,
         };
     }
-    let tree = RTree::bulk_load(
-        points
-            .iter()
-            .map(|p| GeomWithData::new(p.to_array(), ()))
-            .collect(),
-    );
+    let index = PointIndex::new(points);
     let mut rng = Rng::new(seed);
     let queries = VARIATION_SAMPLES.min(points.len());
     let (mut total, mut planar) = (0.0, 0usize);
     for _ in 0..queries {
         let q = points[rng.below(points.len())];
-        let near: Vec<DVec3> = tree
-            .nearest_neighbor_iter(q.to_array())
-            .take(NEIGHBOURS)
-            .map(|g| Vec3::from_array(*g.geom()).as_dvec3())
+        let near: Vec<DVec3> = index
+            .k_nearest(q, NEIGHBOURS)
+            .map(|(_, p)| p.as_dvec3())
             .collect();
         let share = smallest_eigenvalue_share(&near);
         total += share;

@@ -205,13 +205,13 @@ impl Patch {
 impl Closer<'_> {
     /// Whether a new face with `corners` has area, faces along `along` and lies on the input.
     fn acceptable(&self, corners: [Vec3; 3], along: Vec3) -> bool {
-        let tree = self.points.tree();
+        let points = self.points.index();
         let n = (corners[1] - corners[0]).cross(corners[2] - corners[0]);
         n.length() > self.min_area2
             && n.dot(along) > 0.0
-            && (tree.size() < 2
+            && (points.len() < 2
                 || self.opts.max_gap <= 0.0
-                || on_surface(corners, tree, self.max_gap))
+                || on_surface(corners, points, self.max_gap))
     }
 
     /// The patch that closes `hole` in `mesh` (a fan, else a triangulation; module
@@ -229,7 +229,7 @@ impl Closer<'_> {
         let mut onto = None;
         if k > 3 {
             let centre = hole.iter().map(|&v| at(v)).sum::<Vec3>() / k as f32;
-            let hub = project(centre, self.points.tree(), 8);
+            let hub = project(centre, self.points.index(), 8);
             let h = mesh.positions.len() as u32;
             let faces: Vec<[u32; 3]> = (0..k).map(|i| [hole[i], hole[(i + 1) % k], h]).collect();
             let at_hub = |v: u32| mesh.positions.get(v as usize).copied().unwrap_or(hub);

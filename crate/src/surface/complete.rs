@@ -54,18 +54,17 @@
 use std::collections::{HashMap, HashSet};
 
 use glam::{DVec3, Vec2, Vec3};
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::extract::manifold::{ManifoldOptions, ManifoldReport, manifold_faces};
 use crate::extract::orient_face;
 use crate::geometry::clean::weld;
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::topology::sorted_face;
 use crate::surface::fit::least_spread_direction;
-use crate::surface::input::{Indexed, InputPoints};
+use crate::surface::input::InputPoints;
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -165,8 +164,8 @@ pub fn complete_surface(
     if !opts.enabled || mesh.positions.len() < 3 {
         return (mesh.clone(), report);
     }
-    let point_tree = points.tree();
-    if point_tree.size() < 2 {
+    let point_index = points.index();
+    if point_index.len() < 2 {
         return (mesh.clone(), report);
     }
     let spacing = points.spacing();
@@ -175,23 +174,18 @@ pub fn complete_surface(
     report.welded_vertices = merged;
     welded.faces.retain(|&[a, b, c]| a != b && b != c && c != a);
     let (positions, normals, faces) = (&welded.positions, &welded.normals, &welded.faces);
-    let vertex_tree = RTree::bulk_load(
-        positions
-            .iter()
-            .enumerate()
-            .map(|(i, p)| GeomWithData::new(p.to_array(), i as u32))
-            .collect::<Vec<Indexed>>(),
-    );
+    let vertex_index = PointIndex::new(positions);
     let k = opts.neighbours.max(2);
     let near: Vec<HashSet<u32>> = positions
         .iter()
         .enumerate()
         .map(|(i, p)| {
-            vertex_tree
-                .nearest_neighbor_iter(p.to_array())
-                .filter(|n| n.data != i as u32)
+            // The k nearest others: the vertex itself is among the first k + 1.
+            vertex_index
+                .k_nearest(*p, k + 1)
+                .map(|(j, _)| j)
+                .filter(|&j| j != i as u32)
                 .take(k)
-                .map(|n| n.data)
                 .collect()
         })
         .collect();
@@ -209,11 +203,11 @@ pub fn complete_surface(
         .copied()
         .filter(|f| {
             !opts.drop_off_surface
-                || on_surface(f.map(|v| positions[v as usize]), point_tree, max_gap)
+                || on_surface(f.map(|v| positions[v as usize]), point_index, max_gap)
         })
         .collect();
     report.off_surface = faces.len() - model_faces.len();
-    let votes = local_delaunay_votes(positions, &near, point_tree, opts.max_slope);
+    let votes = local_delaunay_votes(positions, &near, point_index, opts.max_slope);
 
     // Rank, lower first: ten perimeters (in median edges) a vote, plus `bonus` votes.
     let rank = |tri: [u32; 3], perimeter: f32, bonus: f32| {
@@ -240,7 +234,7 @@ pub fn complete_surface(
                 }
                 let corners = tri.map(|v| positions[v as usize]);
                 if let Some(perimeter) = usable(corners, max_edge, min_sin)
-                    && on_surface(corners, point_tree, max_gap)
+                    && on_surface(corners, point_index, max_gap)
                 {
                     candidates.push((tri, rank(tri, perimeter, 0.0)));
                 }
@@ -300,17 +294,13 @@ pub fn complete_surface(
 fn local_delaunay_votes(
     positions: &[Vec3],
     near: &[HashSet<u32>],
-    points: &RTree<Indexed>,
+    points: &PointIndex,
     max_slope: f32,
 ) -> HashMap<[u32; 3], u8> {
     let mut votes: HashMap<[u32; 3], u8> = HashMap::new();
     for (i, ni) in near.iter().enumerate() {
         let p = positions[i];
-        let around: Vec<DVec3> = points
-            .nearest_neighbor_iter(p.to_array())
-            .take(16)
-            .map(|q| Vec3::from_array(*q.geom()).as_dvec3())
-            .collect();
+        let around: Vec<DVec3> = points.k_nearest(p, 16).map(|(_, q)| q.as_dvec3()).collect();
         let Some(normal) = least_spread_direction(&around) else {
             continue;
         };
@@ -396,18 +386,9 @@ fn usable(corners: [Vec3; 3], max_edge: f32, min_sin: f32) -> Option<f32> {
 /// Whether every probe of the triangle is within `max_gap` of a point: the centroid, the
 /// edge midpoints, then a barycentric grid fine enough that no part of the triangle is more
 /// than about `max_gap` from a probe (at most 16 steps an edge).
-pub(crate) fn on_surface(corners: [Vec3; 3], points: &RTree<Indexed>, max_gap: f32) -> bool {
+pub(crate) fn on_surface(corners: [Vec3; 3], points: &PointIndex, max_gap: f32) -> bool {
     let [a, b, c] = corners;
-    let max2 = max_gap * max_gap;
-    // Any point within the gap will do: a search bounded by the gap stops at the first one and
-    // never visits the far side of the tree, unlike a nearest-neighbour search (which made this
-    // test a fifth of a whole generation's time).
-    let near = |p: Vec3| {
-        points
-            .locate_within_distance(p.to_array(), max2)
-            .next()
-            .is_some()
-    };
+    let near = |p: Vec3| points.any_within(p, max_gap);
     let coarse = [
         (a + b + c) / 3.0,
         (a + b) / 2.0,

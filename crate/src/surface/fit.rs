@@ -21,20 +21,20 @@
 //! 3. Repeat `iterations` times (the planes are re-estimated around the moved vertices).
 //!
 //! Faces, winding and vertex normals are untouched; the mesh stays as manifold as it was. The
-//! cost is a k-nearest search per vertex and iteration in an R-tree over the points: about a
+//! cost is a k-nearest search per vertex and iteration among the points: about a
 //! millisecond for 500 vertices against 4,096 points.
 
 use std::collections::HashMap;
 
 use glam::{DVec3, Vec3};
-use rstar::RTree;
 use serde::{Deserialize, Serialize};
 
 use crate::extract::manifold::unit_normal;
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{Edge, folds};
 use crate::pipeline::budget::covariance;
-use crate::surface::input::{Indexed, InputPoints};
+use crate::surface::input::InputPoints;
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -98,18 +98,15 @@ pub fn fit_to_points(
             ..FitReport::default()
         };
     }
-    let tree = points.tree();
+    let index = points.index();
     let mut report = FitReport {
         vertices,
         ..FitReport::default()
     };
-    if tree.size() == 0 || vertices == 0 {
+    if index.is_empty() || vertices == 0 {
         return report;
     }
-    let nearest = |p: Vec3| {
-        tree.nearest_neighbor(p.to_array())
-            .map_or(0.0, |n| p.distance(Vec3::from_array(*n.geom())))
-    };
+    let nearest = |p: Vec3| index.nearest(p).map_or(0.0, |(_, q, _)| p.distance(q));
     let mean_distance = |positions: &[Vec3]| {
         let sum: f64 = positions.iter().map(|&p| f64::from(nearest(p))).sum();
         (sum / vertices as f64) as f32
@@ -133,7 +130,7 @@ pub fn fit_to_points(
                     around.iter().map(|&j| before[j as usize]).sum::<Vec3>() / around.len() as f32;
                 *p + (centroid - *p) * opts.smoothing
             };
-            *p = project(start, tree, k);
+            *p = project(start, index, k);
         }
         report.held_back = hold_back_folds(positions, &before, faces, &pairs);
         report.iterations += 1;
@@ -142,14 +139,10 @@ pub fn fit_to_points(
     report
 }
 
-/// `p` projected onto the plane of its `k` nearest points in `tree` (their centroid, the
-/// direction of least spread); `p` itself where they do not define a plane.
-pub(crate) fn project(p: Vec3, tree: &RTree<Indexed>, k: usize) -> Vec3 {
-    let near: Vec<DVec3> = tree
-        .nearest_neighbor_iter(p.to_array())
-        .take(k)
-        .map(|n| Vec3::from_array(*n.geom()).as_dvec3())
-        .collect();
+/// `p` projected onto the plane of its `k` nearest `points` (their centroid, the direction of
+/// least spread); `p` itself where they do not define a plane.
+pub(crate) fn project(p: Vec3, points: &PointIndex, k: usize) -> Vec3 {
+    let near: Vec<DVec3> = points.k_nearest(p, k).map(|(_, q)| q.as_dvec3()).collect();
     let Some(normal) = least_spread_direction(&near) else {
         return p;
     };

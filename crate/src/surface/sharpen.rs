@@ -50,12 +50,11 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use glam::{DVec3, Vec3};
-use rstar::RTree;
-use rstar::primitives::GeomWithData;
 use serde::{Deserialize, Serialize};
 
 use crate::Mesh;
 use crate::geometry::edit::EditMesh;
+use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
@@ -66,7 +65,6 @@ use crate::geometry::triangle::{
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::covariance;
 use crate::surface::fit::{face_pairs, hold_back_folds, least_spread_direction};
-use crate::surface::input::{Indexed, finite_point_tree, point_spacing};
 
 /// Options of [`sharpen`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -205,7 +203,7 @@ impl std::fmt::Display for SharpenReport {
 /// side decide, as they meet exactly on the crease line.
 #[derive(Clone, Debug, Default)]
 pub struct PointPlanes {
-    tree: RTree<Indexed>,
+    index: PointIndex,
     /// Unit normal of each input point's plane (by the point's index), zero where its
     /// neighbours span no plane.
     normals: Vec<DVec3>,
@@ -223,19 +221,18 @@ pub struct PointPlanes {
 impl PointPlanes {
     /// The planes of `points` (non-finite ones ignored) from their `k` nearest points each.
     pub fn new(points: &[Vec3], k: usize) -> Self {
-        let tree = finite_point_tree(points);
+        let index = PointIndex::new(points);
         let mut normals = vec![DVec3::ZERO; points.len()];
         let mut variation = vec![f64::INFINITY; points.len()];
         let mut residuals = Vec::with_capacity(points.len());
         // Each point's plane on its own (in parallel where there are threads).
-        let fitted = map_in_parallel(tree.iter().collect(), |_, p: &Indexed| {
-            let near: Vec<DVec3> = tree
-                .nearest_neighbor_iter(*p.geom())
-                .take(k.max(3))
-                .map(|n| Vec3::from_array(*n.geom()).as_dvec3())
+        let fitted = map_in_parallel(index.iter().collect(), |_, (i, p)| {
+            let near: Vec<DVec3> = index
+                .k_nearest(p, k.max(3))
+                .map(|(_, q)| q.as_dvec3())
                 .collect();
             least_spread_direction(&near)
-                .map(|n| (p.data as usize, n, symmetric_eigenvalues(covariance(&near))))
+                .map(|n| (i as usize, n, symmetric_eigenvalues(covariance(&near))))
         });
         for (i, n, values) in fitted.into_iter().flatten() {
             let total: f64 = values.iter().sum();
@@ -268,8 +265,8 @@ impl PointPlanes {
             })
             .collect();
         PointPlanes {
-            spacing: point_spacing(&tree) as f64,
-            tree,
+            spacing: index.spacing() as f64,
+            index,
             normals,
             confidence,
             with_plane: residuals.len(),
@@ -279,19 +276,16 @@ impl PointPlanes {
 
     /// The points' count (finite ones).
     pub fn len(&self) -> usize {
-        self.tree.size()
+        self.index.len()
     }
 
     pub fn is_empty(&self) -> bool {
-        self.tree.size() == 0
+        self.index.is_empty()
     }
 
     /// The (finite) input points.
     fn points(&self) -> Vec<DVec3> {
-        self.tree
-            .iter()
-            .map(|p| Vec3::from_array(*p.geom()).as_dvec3())
-            .collect()
+        self.index.iter().map(|(_, p)| p.as_dvec3()).collect()
     }
 
     /// How well surface `normals` at `samples` agree with the input's planes: the mean
@@ -315,15 +309,10 @@ impl PointPlanes {
     /// its 4 nearest points, the nearest among equals.
     fn nearest_plane(&self, x: DVec3) -> Option<(DVec3, DVec3)> {
         let mut best: Option<(f64, DVec3, DVec3)> = None;
-        for n in self
-            .tree
-            .nearest_neighbor_iter(x.as_vec3().to_array())
-            .take(4)
-        {
-            let c = self.confidence[n.data as usize];
+        for (i, p) in self.index.k_nearest(x.as_vec3(), 4) {
+            let c = self.confidence[i as usize];
             if best.is_none_or(|(b, _, _)| c > b + 1e-9) {
-                let p = Vec3::from_array(*n.geom()).as_dvec3();
-                best = Some((c, p, self.normals[n.data as usize]));
+                best = Some((c, p.as_dvec3(), self.normals[i as usize]));
             }
         }
         best.map(|(_, p, n)| (p, n))
@@ -334,13 +323,8 @@ impl PointPlanes {
     fn quadric_near(&self, x: DVec3, k: usize) -> (Quadric, f64) {
         let mut q = Quadric::default();
         let mut reach = 0.0f64;
-        for n in self
-            .tree
-            .nearest_neighbor_iter(x.as_vec3().to_array())
-            .take(k)
-        {
-            let p = Vec3::from_array(*n.geom()).as_dvec3();
-            let i = n.data as usize;
+        for (i, p) in self.index.k_nearest(x.as_vec3(), k) {
+            let (i, p) = (i as usize, p.as_dvec3());
             reach = reach.max(p.distance(x));
             if self.normals[i] != DVec3::ZERO && self.confidence[i] > 0.0 {
                 q += Quadric::plane(self.normals[i], p, self.confidence[i]);
@@ -360,13 +344,8 @@ impl PointPlanes {
     /// that a point on one face near a crease is not measured against the other face's plane.
     fn distance(&self, x: DVec3) -> f64 {
         let (mut confident, mut any) = (f64::INFINITY, f64::INFINITY);
-        for n in self
-            .tree
-            .nearest_neighbor_iter(x.as_vec3().to_array())
-            .take(6)
-        {
-            let i = n.data as usize;
-            let p = Vec3::from_array(*n.geom()).as_dvec3();
+        for (i, p) in self.index.k_nearest(x.as_vec3(), 6) {
+            let (i, p) = (i as usize, p.as_dvec3());
             let d = if self.normals[i] == DVec3::ZERO {
                 p.distance(x)
             } else {
@@ -388,15 +367,10 @@ impl PointPlanes {
 
     /// Each point's plane, weighted by its confidence, for the points that have one.
     fn weighted_planes(&self) -> impl Iterator<Item = (DVec3, DVec3, f64)> + '_ {
-        self.tree.iter().filter_map(|p| {
-            let i = p.data as usize;
-            (self.normals[i] != DVec3::ZERO).then(|| {
-                (
-                    Vec3::from_array(*p.geom()).as_dvec3(),
-                    self.normals[i],
-                    self.confidence[i],
-                )
-            })
+        self.index.iter().filter_map(|(i, p)| {
+            let i = i as usize;
+            (self.normals[i] != DVec3::ZERO)
+                .then(|| (p.as_dvec3(), self.normals[i], self.confidence[i]))
         })
     }
 }
@@ -777,20 +751,16 @@ fn vertex_quadrics(m: &EditMesh, planes: &PointPlanes) -> Vec<Quadric> {
             }
         }
     }
-    let live: Vec<GeomWithData<[f64; 3], u32>> = (0..n)
-        .filter(|&v| !m.faces_of(v as u32).is_empty())
-        .map(|v| GeomWithData::new(m.positions[v].to_array(), v as u32))
-        .collect();
+    let live = m.vertex_index();
     if live.is_empty() {
         return quadrics;
     }
-    let tree = RTree::bulk_load(live);
     let share = area / planes.with_plane.max(1) as f64;
     // The nearest vertex of each plane in parallel, the sums in order (the same floats either
     // way).
     let planes: Vec<(DVec3, DVec3, f64)> = planes.weighted_planes().collect();
     let nearest = map_in_parallel(planes.iter().collect(), |_, (x, _, _)| {
-        tree.nearest_neighbor(x.to_array()).map(|v| v.data as usize)
+        live.nearest(x.as_vec3()).map(|(v, _, _)| v as usize)
     });
     for ((x, normal, confidence), v) in planes.into_iter().zip(nearest) {
         if let Some(v) = v {
@@ -936,15 +906,11 @@ impl<'p> Coverage<'p> {
     /// Each point to its nearest face again (after flips).
     fn reassign(&mut self, m: &EditMesh) {
         self.of_face = vec![Vec::new(); m.faces.len()];
-        let live: Vec<GeomWithData<[f64; 3], u32>> = (0..m.positions.len())
-            .filter(|&v| !m.faces_of(v as u32).is_empty())
-            .map(|v| GeomWithData::new(m.positions[v].to_array(), v as u32))
-            .collect();
+        let live = m.vertex_index();
         self.now = vec![f64::INFINITY; self.points.len()];
         if live.is_empty() {
             return;
         }
-        let tree = RTree::bulk_load(live);
         let bounded: Vec<Option<([DVec3; 3], Ball)>> = m
             .faces
             .iter()
@@ -959,10 +925,9 @@ impl<'p> Coverage<'p> {
             // The faces of the 3 nearest vertices, each once (a repeat never wins: the
             // first of equals does).
             let mut seen: Vec<u32> = Vec::with_capacity(24);
-            let faces = tree
-                .nearest_neighbor_iter(x.to_array())
-                .take(3)
-                .flat_map(|v| m.faces_of(v.data).iter().copied())
+            let faces = live
+                .k_nearest(x.as_vec3(), 3)
+                .flat_map(|(v, _)| m.faces_of(v).iter().copied())
                 .filter(|f| {
                     let new = !seen.contains(f);
                     if new {
