@@ -44,3 +44,23 @@ impl InputPoints {
         &self.index
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn non_finite_points_are_left_out_and_the_spacing_is_the_median_gap() {
+        let mut points: Vec<Vec3> = (0..10)
+            .map(|i| Vec3::new(i as f32 * 0.5, 0.0, 0.0))
+            .collect();
+        points.push(Vec3::new(f32::NAN, 0.0, 0.0));
+        points.push(Vec3::splat(f32::INFINITY));
+        let input = InputPoints::new(&points);
+        assert_eq!(input.len(), 10);
+        assert!((input.spacing() - 0.5).abs() < 1e-6, "{}", input.spacing());
+        let one = InputPoints::new(&[Vec3::ONE]);
+        assert_eq!((one.len(), one.spacing()), (1, 0.0));
+        assert!(InputPoints::new(&[]).is_empty());
+    }
+}
