@@ -121,6 +121,34 @@ proptest! {
         }
     }
 
+    /// The collapse guard counts folded edges around the collapse only: on a crumpled sphere,
+    /// with no turn limit, a collapse the mesh's topology allows passes exactly when doing it
+    /// leaves the whole mesh with no more folded edges than before.
+    #[test]
+    fn the_collapse_guard_counts_the_whole_meshs_folds(
+        push in prop::collection::vec(point(), 42),
+        picks in prop::collection::vec((0usize..1000, 0.0f64..1.0), 1..40),
+    ) {
+        let sphere = icosphere(1);
+        let positions: Vec<DVec3> = (sphere.positions.iter().zip(&push))
+            .map(|(p, d)| (*p + *d * 0.6).as_dvec3())
+            .collect();
+        let mut e = EditMesh::new(positions, &sphere.faces);
+        for (pick, t) in picks {
+            let edges = e.edges();
+            let [a, b] = edges[pick % edges.len()];
+            let Some(plan) = e.plan_collapse(a, b) else { continue };
+            let x = e.positions[a as usize].lerp(e.positions[b as usize], t);
+            let mut done = e.clone();
+            done.collapse(a, b, x);
+            let more = edited_report(&done).folded_edges > edited_report(&e).folded_edges;
+            prop_assert_eq!(e.collapse_keeps_shape(&plan, x, -1.0), !more, "edge {:?}", (a, b));
+            if !more {
+                e = done;
+            }
+        }
+    }
+
     /// Sharpening's flip passes ask an edge's flip guard in one orientation only: on a
     /// crumpled sphere, every edge that has a flip's apexes both ways round gets the same
     /// answer from `flip_keeps_shape` both ways round, and `flippable` agrees with the two

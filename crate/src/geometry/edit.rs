@@ -20,10 +20,26 @@ use crate::geometry::topology::folds;
 #[derive(Clone, Debug, Default)]
 pub struct EditMesh {
     pub positions: Vec<DVec3>,
-    /// Faces by index; dead ones are `None` (indices stay stable during edits).
+    /// Faces by index; dead ones are `None` (indices stay stable during edits). Read only:
+    /// the edits keep the vertex lists and the live count in step with it.
     pub faces: Vec<Option<[u32; 3]>>,
     /// The live faces of each vertex.
     vertex_faces: Vec<Vec<u32>>,
+    /// How many faces are live, kept as edits go (decimation asks after every collapse).
+    live_faces: usize,
+}
+
+/// An edge collapse that keeps the mesh manifold ([`EditMesh::plan_collapse`]), to be tried
+/// at one position or more ([`EditMesh::collapse_keeps_shape`]).
+#[derive(Debug)]
+pub struct CollapsePlan {
+    a: u32,
+    b: u32,
+    /// The faces of `a` and `b`, and the same with `b` renamed `a`, the edge's faces gone.
+    before: Vec<[u32; 3]>,
+    after: Vec<[u32; 3]>,
+    /// The folded edges of `before`, counted when first asked.
+    folded_before: std::cell::OnceCell<usize>,
 }
 
 /// The faces on the edge `(a, b)`: `a` to `b` in the first, if any, then the others.
@@ -43,6 +59,7 @@ impl EditMesh {
             vertex_faces: vec![Vec::new(); positions.len()],
             positions,
             faces: Vec::with_capacity(faces.len()),
+            live_faces: 0,
         };
         for &f in faces {
             let n = m.positions.len() as u32;
@@ -56,6 +73,7 @@ impl EditMesh {
     fn push_face(&mut self, f: [u32; 3]) -> u32 {
         let id = self.faces.len() as u32;
         self.faces.push(Some(f));
+        self.live_faces += 1;
         for v in f {
             self.vertex_faces[v as usize].push(id);
         }
@@ -64,6 +82,7 @@ impl EditMesh {
 
     fn kill_face(&mut self, id: u32) {
         if let Some(f) = self.faces[id as usize].take() {
+            self.live_faces -= 1;
             for v in f {
                 self.vertex_faces[v as usize].retain(|&g| g != id);
             }
@@ -72,7 +91,7 @@ impl EditMesh {
 
     /// Live faces.
     pub fn face_count(&self) -> usize {
-        self.faces.iter().flatten().count()
+        self.live_faces
     }
 
     /// The live vertices (those with a face), indexed by position for nearest queries.
@@ -148,9 +167,15 @@ impl EditMesh {
 
     /// Whether an edge of `v` has only one face (or more than two).
     pub fn is_boundary(&self, v: u32) -> bool {
-        self.neighbours(v)
-            .into_iter()
-            .any(|w| self.faces_on_edge(v, w) != 2)
+        // The edge (v, w) has as many faces as v's faces that hold w: count each neighbour's
+        // appearances in one sorted list rather than walking v's faces once per neighbour.
+        let mut others: Vec<u32> = self.vertex_faces[v as usize]
+            .iter()
+            .flat_map(|&id| self.face(id))
+            .filter(|&w| w != v)
+            .collect();
+        others.sort_unstable();
+        others.chunk_by(|p, q| p == q).any(|run| run.len() != 2)
     }
 
     /// The live edges, each once as `[a, b]` with `a < b`.
@@ -170,64 +195,84 @@ impl EditMesh {
     /// Whether collapsing the edge `(a, b)` into `a`, placed at `x`, keeps the mesh manifold,
     /// keeps every surviving face turned by less than `acos(min_cos)`, leaves none without
     /// area and leaves no more folded edges around it than there were (see the module
-    /// documentation).
+    /// documentation): [`Self::plan_collapse`] then [`Self::collapse_keeps_shape`].
     pub fn can_collapse(&self, a: u32, b: u32, x: DVec3, min_cos: f64) -> bool {
+        self.plan_collapse(a, b)
+            .is_some_and(|plan| self.collapse_keeps_shape(&plan, x, min_cos))
+    }
+
+    /// The collapse of the edge `(a, b)` into `a` if it keeps the mesh manifold, wherever `a`
+    /// goes: the link condition, no two boundaries joined across an interior edge, no
+    /// tetrahedron or pillow closed. Separate from [`Self::collapse_keeps_shape`] so that a
+    /// caller trying several positions asks once.
+    pub fn plan_collapse(&self, a: u32, b: u32) -> Option<CollapsePlan> {
         let e = self.edge_faces(a, b);
         if e.count == 0 || e.count > 2 {
-            return false;
+            return None;
         }
         let apexes = &e.apex[..e.count];
         let (na, nb) = (self.neighbours(a), self.neighbours(b));
         let shared = na.iter().filter(|v| nb.binary_search(v).is_ok()).count();
         if shared != e.count || !apexes.iter().all(|v| na.binary_search(v).is_ok()) {
-            return false;
+            return None;
         }
         if e.count == 2 && self.is_boundary(a) && self.is_boundary(b) {
-            return false;
+            return None;
         }
         // A tetrahedron (or a lone triangle) would lose its last faces, or fold onto itself.
         let remaining =
             self.vertex_faces[a as usize].len() + self.vertex_faces[b as usize].len() - 2 * e.count;
         if remaining < 2 || na.len() + nb.len() <= 2 + 2 * e.count {
-            return false;
+            return None;
         }
-        let on_edge = |id: u32| e.faces[..e.count].contains(&id);
+        // The faces of `a` and `b` before, and after with `b` renamed `a` (the edge's own
+        // faces, the only ones holding both, go).
+        let before = self.faces_of_both(a, b);
+        let after: Vec<[u32; 3]> = (before.iter())
+            .filter(|f| !(f.contains(&a) && f.contains(&b)))
+            .map(|f| f.map(|v| if v == b { a } else { v }))
+            .collect();
         // Two faces on the same three vertices afterwards (a pillow hanging off the mesh by its
         // corners): possible when the edge's apexes are joined around both ends, which the
         // neighbour count above does not see.
-        let sorted = |f: [u32; 3]| {
-            let mut f = f.map(|v| if v == b { a } else { v });
+        let sorted = |f: &[u32; 3]| {
+            let mut f = *f;
             f.sort_unstable();
             f
         };
-        let around_a: Vec<[u32; 3]> = self.vertex_faces[a as usize]
-            .iter()
-            .filter(|&&id| !on_edge(id))
-            .map(|&id| sorted(self.faces[id as usize].expect("live")))
-            .collect();
-        if self.vertex_faces[b as usize]
-            .iter()
-            .filter(|&&id| !on_edge(id))
-            .any(|&id| around_a.contains(&sorted(self.faces[id as usize].expect("live"))))
-        {
-            return false;
+        let of_a = self.vertex_faces[a as usize].len() - e.count;
+        let (around_a, around_b) = after.split_at(of_a);
+        let around_a: Vec<[u32; 3]> = around_a.iter().map(sorted).collect();
+        if around_b.iter().any(|f| around_a.contains(&sorted(f))) {
+            return None;
         }
-        for &id in self.vertex_faces[a as usize]
-            .iter()
-            .chain(&self.vertex_faces[b as usize])
-        {
-            if on_edge(id) {
-                continue;
+        Some(CollapsePlan {
+            a,
+            b,
+            before,
+            after,
+            folded_before: std::cell::OnceCell::new(),
+        })
+    }
+
+    /// Whether the planned collapse with `a` at `x` turns no surviving face by more than
+    /// `acos(min_cos)`, leaves none without area and leaves no more folded edges around it.
+    pub fn collapse_keeps_shape(&self, plan: &CollapsePlan, x: DVec3, min_cos: f64) -> bool {
+        let (a, b) = (plan.a, plan.b);
+        let moved = |v: u32| {
+            if v == a || v == b {
+                x
+            } else {
+                self.positions[v as usize]
             }
-            let f = self.faces[id as usize].expect("live");
-            let before = self.corners(f);
-            let after = f.map(|v| {
-                if v == a || v == b {
-                    x
-                } else {
-                    self.positions[v as usize]
-                }
-            });
+        };
+        for f in plan
+            .before
+            .iter()
+            .filter(|f| !(f.contains(&a) && f.contains(&b)))
+        {
+            let before = self.corners(*f);
+            let after = f.map(moved);
             let n0 = (before[1] - before[0]).cross(before[2] - before[0]);
             let n1 = (after[1] - after[0]).cross(after[2] - after[0]);
             let (l0, l1) = (n0.length(), n1.length());
@@ -240,78 +285,71 @@ impl EditMesh {
                 return false;
             }
         }
-        let near = self.faces_near(&[a, b]);
-        let after: Vec<[u32; 3]> = (near.iter())
-            .filter(|&&id| !on_edge(id))
-            .map(|&id| self.face(id).map(|v| if v == b { a } else { v }))
-            .collect();
-        let moved = |v: u32| {
-            if v == a {
-                x
-            } else {
-                self.positions[v as usize]
-            }
-        };
-        !self.folds_more(&near, &after, moved)
+        // No fold after is never more than before, which then needs no counting (most edits).
+        let after = self.folded_around(&[a, b], &plan.after, moved);
+        after == 0
+            || after
+                <= *plan.folded_before.get_or_init(|| {
+                    self.folded_around(&[a, b], &plan.before, |v| self.positions[v as usize])
+                })
     }
 
-    /// Whether the faces `after` (with the vertices at `at`) that an edit puts in place of the
-    /// faces `near` ([`Self::faces_near`] of the edited vertices) have more folded edges.
-    fn folds_more(&self, near: &[u32], after: &[[u32; 3]], at: impl Fn(u32) -> DVec3) -> bool {
-        let before: Vec<[u32; 3]> = near.iter().map(|&id| self.face(id)).collect();
-        self.folded_among(after, at) > self.folded_among(&before, |v| self.positions[v as usize])
+    /// The folded edges ([`folds`]) on the edges of `fan`, all the faces of the `edited`
+    /// vertices as an edit leaves them, with the vertices at `at`: each edge counts once for
+    /// each face walking it from its lower vertex that folds against a face walking it back.
+    /// The faces across the fan's outer edges are the mesh's own. Edges away from the fan keep
+    /// their faces and normals, so comparing this before and after an edit compares the whole
+    /// mesh's count.
+    fn folded_around(&self, edited: &[u32], fan: &[[u32; 3]], at: impl Fn(u32) -> DVec3) -> usize {
+        let mut edges: Vec<[u32; 2]> = (fan.iter())
+            .flat_map(|&[p, q, r]| [[p, q], [q, r], [r, p]])
+            .map(|[u, v]| [u.min(v), u.max(v)])
+            .collect();
+        edges.sort_unstable();
+        edges.dedup();
+        let normal = |f: [u32; 3]| {
+            let [p, q, r] = f.map(&at);
+            (q - p).cross(r - p)
+        };
+        let walks = |f: [u32; 3], u: u32, v: u32| (0..3).any(|k| f[k] == u && f[(k + 1) % 3] == v);
+        let mut on_edge: Vec<[u32; 3]> = Vec::with_capacity(4);
+        let mut folded = 0;
+        for [u, v] in edges {
+            on_edge.clear();
+            on_edge.extend(fan.iter().filter(|f| f.contains(&u) && f.contains(&v)));
+            // An edge of an edited vertex has only the fan's faces.
+            if !edited.contains(&u) && !edited.contains(&v) {
+                on_edge.extend(
+                    (self.vertex_faces[u as usize].iter())
+                        .map(|&id| self.face(id))
+                        .filter(|f| f.contains(&v) && !edited.iter().any(|e| f.contains(e))),
+                );
+            }
+            folded += (on_edge.iter())
+                .filter(|&&f| walks(f, u, v))
+                .filter(|&&f| {
+                    (on_edge.iter())
+                        .filter(|&&g| walks(g, v, u))
+                        .any(|&g| folds(normal(f), normal(g)))
+                })
+                .count();
+        }
+        folded
+    }
+
+    /// The faces of `a` (in order), then those of `b` without `a`: each face of either once.
+    fn faces_of_both(&self, a: u32, b: u32) -> Vec<[u32; 3]> {
+        let of_a = self.vertex_faces[a as usize]
+            .iter()
+            .map(|&id| self.face(id));
+        let of_b = self.vertex_faces[b as usize]
+            .iter()
+            .map(|&id| self.face(id));
+        of_a.chain(of_b.filter(|f| !f.contains(&a))).collect()
     }
 
     fn face(&self, id: u32) -> [u32; 3] {
         self.faces[id as usize].expect("live")
-    }
-
-    /// The faces of `vertices` and the faces across their edges, once each: every face whose
-    /// normal or neighbour an edit of those vertices can change.
-    fn faces_near(&self, vertices: &[u32]) -> Vec<u32> {
-        let mut near: Vec<u32> = (vertices.iter())
-            .flat_map(|&v| self.vertex_faces[v as usize].iter().copied())
-            .collect();
-        near.sort_unstable();
-        near.dedup();
-        let across: Vec<u32> = (near.iter())
-            .flat_map(|&id| {
-                let [p, q, r] = self.face(id);
-                [[p, q], [q, r], [r, p]]
-            })
-            .flat_map(|[u, v]| {
-                let e = self.edge_faces(u, v);
-                e.faces.into_iter().take(e.count)
-            })
-            .collect();
-        near.extend(across);
-        near.sort_unstable();
-        near.dedup();
-        near
-    }
-
-    /// The folded edges ([`folds`]) between the faces of `faces`, each walked both ways within
-    /// the list, with the vertices at `at`.
-    fn folded_among(&self, faces: &[[u32; 3]], at: impl Fn(u32) -> DVec3) -> usize {
-        let normals: Vec<DVec3> = (faces.iter())
-            .map(|f| {
-                let [p, q, r] = f.map(&at);
-                (q - p).cross(r - p)
-            })
-            .collect();
-        let mut walked: Vec<(u32, u32, usize)> = (faces.iter().enumerate())
-            .flat_map(|(i, &[p, q, r])| [(p, q, i), (q, r, i), (r, p, i)])
-            .collect();
-        walked.sort_unstable();
-        (walked.iter())
-            .filter(|&&(u, v, _)| u < v)
-            .filter(|&&(u, v, f)| {
-                let from = walked.partition_point(|&(p, q, _)| (p, q) < (v, u));
-                (walked[from..].iter())
-                    .take_while(|&&(p, q, _)| (p, q) == (v, u))
-                    .any(|&(_, _, g)| folds(normals[f], normals[g]))
-            })
-            .count()
     }
 
     /// Collapses `(a, b)` into `a` at `x` (after [`Self::can_collapse`]): the edge's faces go,
@@ -379,14 +417,14 @@ impl EditMesh {
         {
             return false;
         }
-        let e = self.edge_faces(a, b);
-        let near = self.faces_near(&[a, b]);
-        let mut after: Vec<[u32; 3]> = (near.iter())
-            .filter(|&&id| !e.faces.contains(&id))
-            .map(|&id| self.face(id))
+        let fan = self.faces_of_both(a, b);
+        let mut after: Vec<[u32; 3]> = (fan.iter())
+            .filter(|f| !(f.contains(&a) && f.contains(&b)))
+            .copied()
             .collect();
         after.extend([[a, d, c], [b, c, d]]);
-        !self.folds_more(&near, &after, p)
+        let folded = self.folded_around(&[a, b], &after, p);
+        folded == 0 || folded <= self.folded_around(&[a, b], &fan, p)
     }
 
     /// Flips `(a, b)` to `(c, d)` (after [`Self::flippable`] gave `(c, d)`): faces

@@ -19,7 +19,7 @@
 //!    model's mesh that stops short of the input (a wedge's thin end) slides out to it.
 //! 3. **Quadric decimation.** Garland and Heckbert's edge collapses, each vertex's quadric
 //!    the planes of the input points nearest it, cheapest first, guarded by the link
-//!    condition and a turn limit ([`EditMesh::can_collapse`]), down to the face count the
+//!    condition and a turn limit ([`EditMesh::plan_collapse`]), down to the face count the
 //!    mesh came in with, and on below it while a collapse costs less than the flatness
 //!    tolerance (RMS distance `flat_tolerance` of the mesh's size, or `noise_tolerance` times
 //!    the points' own RMS off-plane spread, whichever is larger) and leaves no face farther
@@ -843,9 +843,12 @@ fn decimate(
             } else {
                 f64::INFINITY
             };
+            let Some(plan) = m.plan_collapse(a, b) else {
+                continue;
+            };
             let Some(x) = [best, ends[0], ends[1]].into_iter().find(|&x| {
                 sum.error(x) / sum.weight.max(1e-300) <= limit.max(cost)
-                    && m.can_collapse(a, b, x, min_cos)
+                    && m.collapse_keeps_shape(&plan, x, min_cos)
                     && (faces > target || !strays(m, planes, a, b, x, 2.0 * tolerance))
                     && !coverage.uncovers(m, a, b, x, reach)
             }) else {
