@@ -13,39 +13,73 @@ pub fn closest_point_weights(x: DVec3, t: [DVec3; 3]) -> [f64; 3] {
     closest_point(x, t).1
 }
 
-/// A ball holding the triangle `[a, b, c]` (centred on its centroid): `x`'s distance to the
-/// triangle is at least [`Ball::distance_at_least`], so a search for the nearest of several
-/// triangles can skip those whose ball is already farther than the best so far.
+/// Lower bounds of the distance from a point to the triangle `[a, b, c]`: the ball about its
+/// centroid through its farthest corner, the slab of its plane, and the three half-spaces that
+/// hold it, each bounded by a plane through one of its edges square to the triangle. A search
+/// for the nearest of several triangles skips those that one of them already puts farther than
+/// the best so far: the ball prunes far triangles, the edge planes a near triangle's coplanar
+/// neighbours (which the ball of a large face does not).
 #[derive(Clone, Copy, Debug)]
-pub struct Ball {
-    pub centre: DVec3,
-    pub radius: f64,
+pub struct Bound {
+    centre: DVec3,
+    radius: f64,
+    /// The unit normal, and the lowest and highest of the corners along it.
+    normal: DVec3,
+    along_normal: [f64; 2],
+    /// Each edge's outward unit normal within the plane, and the highest of the corners along
+    /// it (the edge's own, up to rounding).
+    edges: [(DVec3, f64); 3],
 }
 
-impl Ball {
-    /// The ball about the centroid of `t` through its farthest corner.
+impl Bound {
+    /// The bounds of `t` (a triangle without area has a ball only).
     pub fn around(t: [DVec3; 3]) -> Self {
         let centre = (t[0] + t[1] + t[2]) / 3.0;
         let radius = t.iter().map(|&c| c.distance(centre)).fold(0.0, f64::max);
-        Ball { centre, radius }
+        // Each plane's offset is measured on the corners themselves, so that a normal rounded
+        // off (a sliver's) still leaves the whole triangle inside its planes.
+        let span = |m: DVec3| {
+            let along = t.map(|c| m.dot(c));
+            [
+                along[0].min(along[1]).min(along[2]),
+                along[0].max(along[1]).max(along[2]),
+            ]
+        };
+        let normal = (t[1] - t[0]).cross(t[2] - t[0]).normalize_or_zero();
+        let edges = [0, 1, 2].map(|i| {
+            let m = (t[(i + 1) % 3] - t[i]).cross(normal).normalize_or_zero();
+            (m, span(m)[1])
+        });
+        Bound {
+            centre,
+            radius,
+            normal,
+            along_normal: span(normal),
+            edges,
+        }
     }
 
-    /// A lower bound of the distance from `x` to anything inside the ball, a little below the
-    /// exact one (by a relative 1e-9 of the radius and the distance) so that rounding never
-    /// makes it pass a true distance.
+    /// A lower bound of the distance from `x` to the triangle, a little below the exact one
+    /// (by a relative 1e-9 of the ball's radius and the distance to its centre) so that
+    /// rounding never makes it pass a true distance.
     pub fn distance_at_least(&self, x: DVec3) -> f64 {
         let d = x.distance(self.centre);
-        (d - self.radius) - 1e-9 * (d + self.radius)
+        let h = self.normal.dot(x);
+        let slab = (h - self.along_normal[1]).max(self.along_normal[0] - h);
+        let outside = (self.edges.iter())
+            .map(|&(m, high)| m.dot(x) - high)
+            .fold(slab, f64::max);
+        (d - self.radius).max(outside) - 1e-9 * (d + self.radius)
     }
 }
 
-/// The nearest of `triangles` (each an id, its corners and its [`Ball`]) to `x`: its distance
+/// The nearest of `triangles` (each an id, its corners and its [`Bound`]) to `x`: its distance
 /// and id, the first of equals (as `Iterator::min_by` picks). `guess`, the index of a triangle
-/// likely to be near, is measured first; then a triangle whose ball is already farther than
-/// the best so far is skipped unmeasured. Neither changes the answer, only its cost.
+/// likely to be near, is measured first; then a triangle whose bound is already farther than
+/// the best so far by its [`Bound`] is skipped unmeasured. Neither changes the answer, only its cost.
 pub fn nearest_triangle<T: Copy>(
     x: DVec3,
-    triangles: &[(T, [DVec3; 3], Ball)],
+    triangles: &[(T, [DVec3; 3], Bound)],
     guess: Option<usize>,
 ) -> Option<(f64, T)> {
     // The best so far: distance and index, compared as (distance, index) so that the order
@@ -55,12 +89,12 @@ pub fn nearest_triangle<T: Copy>(
             .get(g)
             .map(|&(_, t, _)| (point_triangle_distance(x, t), g))
     });
-    for (i, &(_, t, ball)) in triangles.iter().enumerate() {
+    for (i, &(_, t, bound)) in triangles.iter().enumerate() {
         if Some(i) == guess {
             continue;
         }
         if let Some((d, _)) = best
-            && ball.distance_at_least(x) > d
+            && bound.distance_at_least(x) > d
         {
             continue;
         }
@@ -136,7 +170,7 @@ mod tests {
     }
 
     #[test]
-    fn a_triangles_ball_never_passes_its_distance() {
+    fn a_triangles_bound_never_passes_its_distance() {
         // Deterministic pseudo-random triangles and points, near and far, flat and thin.
         let mut rng = Rng::new(0x2545_f491_4f6c_dd1d);
         let mut next = || rng.next_f64() * 2.0 - 1.0;
@@ -145,18 +179,33 @@ mod tests {
             let mut v = || DVec3::new(next(), next(), next()) * scale;
             let t = [v(), v(), v()];
             let x = DVec3::new(next(), next(), next()) * (1.0 + 3.0 * (i % 3) as f64) * scale;
-            let ball = Ball::around(t);
+            // Every third one a sliver: its third corner a hair off the line of the other two.
+            let t = if i % 3 == 0 {
+                [
+                    t[0],
+                    t[1],
+                    t[0].lerp(t[1], next()) + DVec3::splat(1e-12 * scale),
+                ]
+            } else {
+                t
+            };
+            let bound = Bound::around(t);
             assert!(
-                ball.distance_at_least(x) <= point_triangle_distance(x, t),
+                bound.distance_at_least(x) <= point_triangle_distance(x, t),
                 "{t:?} {x:?}"
             );
         }
         let t = [DVec3::ZERO, DVec3::X, DVec3::Y];
         let far = DVec3::new(10.0, 0.0, 0.0);
         assert!(
-            Ball::around(t).distance_at_least(far) > 8.0,
-            "the bound is a useful one"
+            Bound::around(t).distance_at_least(far) > 8.0,
+            "the ball is a useful bound"
         );
+        // A point on a face, 0.3 inside its edge with a coplanar neighbour: the neighbour's
+        // ball holds it, its edge plane puts it 0.3 away.
+        let neighbour = [DVec3::X, DVec3::ZERO, DVec3::new(0.5, -1.0, 0.0)];
+        let on = DVec3::new(0.5, 0.3, 0.0);
+        assert!(Bound::around(neighbour).distance_at_least(on) > 0.29);
     }
 
     #[test]
@@ -179,10 +228,10 @@ mod tests {
                 .enumerate()
                 .map(|(i, &t)| (point_triangle_distance(x, t), i))
                 .min_by(|p, q| p.0.total_cmp(&q.0));
-            let bounded: Vec<(usize, [DVec3; 3], Ball)> = tris
+            let bounded: Vec<(usize, [DVec3; 3], Bound)> = tris
                 .iter()
                 .enumerate()
-                .map(|(i, &t)| (i, t, Ball::around(t)))
+                .map(|(i, &t)| (i, t, Bound::around(t)))
                 .collect();
             for guess in [None, Some(0), Some(2), Some(5), Some(8), Some(99)] {
                 assert_eq!(nearest_triangle(x, &bounded, guess), all, "guess {guess:?}");

@@ -60,7 +60,7 @@ use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{TopologyReport, edges};
 use crate::geometry::triangle::{
-    Ball, closest_point_weights, nearest_triangle, point_triangle_distance,
+    Bound, closest_point_weights, nearest_triangle, point_triangle_distance,
 };
 use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::covariance;
@@ -914,13 +914,13 @@ impl<'p> Coverage<'p> {
         if live.is_empty() {
             return;
         }
-        let bounded: Vec<Option<([DVec3; 3], Ball)>> = m
+        let bounded: Vec<Option<([DVec3; 3], Bound)>> = m
             .faces
             .iter()
             .map(|f| {
                 f.map(|f| {
                     let t = m.corners(f);
-                    (t, Ball::around(t))
+                    (t, Bound::around(t))
                 })
             })
             .collect();
@@ -939,8 +939,8 @@ impl<'p> Coverage<'p> {
                     new
                 })
                 .map(|f| {
-                    let (t, ball) = bounded[f as usize].expect("live");
-                    (f, t, ball)
+                    let (t, bound) = bounded[f as usize].expect("live");
+                    (f, t, bound)
                 })
                 .collect::<Vec<_>>();
             nearest_triangle(x, &faces, None)
@@ -965,12 +965,12 @@ impl<'p> Coverage<'p> {
             }
         };
         let removed = |f: &[u32; 3]| f.contains(&a) && f.contains(&b);
-        let fan: Vec<([DVec3; 3], Ball)> = around()
+        let fan: Vec<([DVec3; 3], Bound)> = around()
             .map(|&f| m.faces[f as usize].expect("live"))
             .filter(|f| !removed(f))
             .map(|f| {
                 let t = f.map(at);
-                (t, Ball::around(t))
+                (t, Bound::around(t))
             })
             .collect();
         // A face's point moves with it, to the same weights on the moved face, by at most the
@@ -1006,9 +1006,9 @@ impl<'p> Coverage<'p> {
                         return false;
                     }
                 }
-                // No face of the fan within the limit (a face whose ball is beyond it is not).
-                !fan.iter().any(|&(t, ball)| {
-                    ball.distance_at_least(y) <= limit && point_triangle_distance(y, t) <= limit
+                // No face of the fan within the limit (a face whose bound is beyond it is not).
+                !fan.iter().any(|&(t, bound)| {
+                    bound.distance_at_least(y) <= limit && point_triangle_distance(y, t) <= limit
                 })
             })
         })
@@ -1026,12 +1026,12 @@ impl<'p> Coverage<'p> {
     /// `moved` points, each to its nearest face around the surviving vertex `a` (its own face,
     /// where it survived, measured first: most points stay on it).
     fn give(&mut self, m: &EditMesh, a: u32, moved: Vec<(u32, u32)>) {
-        let fan: Vec<(u32, [DVec3; 3], Ball)> = m
+        let fan: Vec<(u32, [DVec3; 3], Bound)> = m
             .faces_of(a)
             .iter()
             .map(|&f| {
                 let t = m.corners(m.faces[f as usize].expect("live"));
-                (f, t, Ball::around(t))
+                (f, t, Bound::around(t))
             })
             .collect();
         for (p, was) in moved {
