@@ -285,7 +285,8 @@ impl EditMesh {
                 return false;
             }
         }
-        // No fold after is never more than before, which then needs no counting (most edits).
+        // With no folded edge after, there cannot be more than before: most edits end here,
+        // and the count before is taken only when needed (once per plan).
         let after = self.folded_around(&[a, b], &plan.after, moved);
         after == 0
             || after

@@ -75,8 +75,8 @@ impl Bound {
 
 /// The nearest of `triangles` (each an id, its corners and its [`Bound`]) to `x`: its distance
 /// and id, the first of equals (as `Iterator::min_by` picks). `guess`, the index of a triangle
-/// likely to be near, is measured first; then a triangle whose bound is already farther than
-/// the best so far by its [`Bound`] is skipped unmeasured. Neither changes the answer, only its cost.
+/// likely to be near, is measured first; then a triangle whose [`Bound`] is already farther
+/// than the best so far is skipped unmeasured. Neither changes the answer, only its cost.
 pub fn nearest_triangle<T: Copy>(
     x: DVec3,
     triangles: &[(T, [DVec3; 3], Bound)],
