@@ -192,6 +192,9 @@ pub struct SamplingArgs {
     /// come near draw it out along the surface (0: none).
     #[arg(long, default_value_t = SharpenOptions::default().reach_steps)]
     sharpen_reach_steps: usize,
+    /// Sharpening: most 1-to-4 splits of the faces in each round after the first.
+    #[arg(long, default_value_t = SharpenOptions::default().later_refine)]
+    sharpen_later_refine: usize,
     #[command(flatten)]
     backend: BackendArg,
 }
@@ -253,6 +256,7 @@ impl SamplingArgs {
                 accept_ratio: self.sharpen_accept,
                 candidates: self.sharpen_candidates,
                 reach_steps: self.sharpen_reach_steps,
+                later_refine: self.sharpen_later_refine,
                 ..SharpenOptions::default()
             },
         }

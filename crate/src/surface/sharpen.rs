@@ -7,8 +7,11 @@
 //! Five steps pursue it:
 //!
 //! 1. **Room.** Each face is split into four until the median edge is at most about three
-//!    point spacings (at most `max_refine` times), so that vertices can sit on a crease that
-//!    the model's coarse edges cross.
+//!    point spacings (at most `max_refine` times in the first round, `later_refine` in each
+//!    later one), so that vertices can sit on a crease that the model's coarse edges cross.
+//!    A later round starts from the last one's few large faces, already on the creases: one
+//!    split gives it room to move them and leaves a quarter of the faces to collapse back
+//!    (docs/experiments/2026-12-05-later-refine.md).
 //! 2. **Placement.** Each vertex goes to the minimiser of the quadric of the planes of its
 //!    `neighbours` nearest points, with eigenvalues below `rank_cutoff` of the largest
 //!    truncated ([`Quadric::minimiser_near`], as dual contouring does): on a flat region the
@@ -36,7 +39,7 @@
 //!    face centroids) lie clearly farther from the input planes than the other diagonal's
 //!    would is flipped: an edge across a crease becomes one along it.
 //!
-//! The five steps run `passes` times (8 by default); each round starts nearer the input than
+//! The five steps run `passes` times (16 by default); each round starts nearer the input than
 //! the last, so placement and collapses correct what the previous round left.
 //!
 //! The mesh stays manifold with consistent winding; its holes and pieces are kept (no edit
@@ -78,8 +81,10 @@ pub struct SharpenOptions {
     pub plane_neighbours: usize,
     /// Eigenvalues of a vertex's quadric below this share of the largest are truncated.
     pub rank_cutoff: f64,
-    /// Most 1-to-4 splits before placement.
+    /// Most 1-to-4 splits before placement, in the first round.
     pub max_refine: usize,
+    /// The same in every later round, which starts from the last round's few large faces.
+    pub later_refine: usize,
     /// Flatness tolerance: RMS distance, as a share of the input's longest side, that a
     /// collapse below the incoming face count may cost.
     pub flat_tolerance: f64,
@@ -111,10 +116,11 @@ impl Default for SharpenOptions {
             plane_neighbours: 12,
             rank_cutoff: 0.08,
             max_refine: 2,
+            later_refine: 1,
             flat_tolerance: 0.003,
             noise_tolerance: 3.0,
             max_turn_deg: 60.0,
-            passes: 8,
+            passes: 16,
             accept_ratio: 1.0,
             candidates: 1,
             reach_steps: 1,
@@ -419,12 +425,16 @@ pub fn sharpen_judged(
     let points = planes.points();
     // Each round's mesh, compacted: (positions, faces, the edit mesh's vertex of each).
     let mut rounds = Vec::with_capacity(opts.passes);
-    for _round in 0..opts.passes {
+    for round in 0..opts.passes {
         let (mut crease, mut corner) = (0, 0);
         // 1. Room for the creases.
+        let max_refine = if round == 0 {
+            opts.max_refine
+        } else {
+            opts.later_refine
+        };
         let mut splits = 0;
-        while splits < opts.max_refine && median_edge(&m).is_some_and(|l| l > 3.0 * planes.spacing)
-        {
+        while splits < max_refine && median_edge(&m).is_some_and(|l| l > 3.0 * planes.spacing) {
             m.subdivide();
             splits += 1;
         }
@@ -1140,6 +1150,15 @@ mod tests {
     use crate::geometry::sample::sample_surface;
     use crate::rng::Rng;
 
+    /// The tests' box (its half-extents and mesh), 4,096 points sampled on it and their planes.
+    fn box_and_planes() -> (Vec3, Mesh, Vec<Vec3>, PointPlanes) {
+        let half = Vec3::new(0.9, 0.45, 0.63);
+        let truth = cuboid(-half, half);
+        let points = sample_surface(&truth, 4096, 1).unwrap().points;
+        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        (half, truth, points, planes)
+    }
+
     /// A blob standing in for the model's mesh of a box: an icosphere drawn most of the way
     /// onto the box (rounded corners and creases), its vertices jittered.
     fn blob_of_box(half: Vec3, seed: u64) -> Mesh {
@@ -1155,10 +1174,7 @@ mod tests {
 
     #[test]
     fn a_box_agrees_with_its_own_planes_and_a_blob_of_it_less() {
-        let half = Vec3::new(0.9, 0.45, 0.63);
-        let truth = cuboid(-half, half);
-        let points = sample_surface(&truth, 4096, 1).unwrap().points;
-        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let (half, truth, points, planes) = box_and_planes();
         let agreement = |m: &Mesh| {
             let s = sample_surface(m, 2048, 0).unwrap();
             planes.normal_agreement(&s.points, &s.normals).unwrap()
@@ -1181,10 +1197,7 @@ mod tests {
 
     #[test]
     fn a_blob_of_a_box_comes_back_flat_and_creased_with_few_faces() {
-        let half = Vec3::new(0.9, 0.45, 0.63);
-        let truth = cuboid(-half, half);
-        let points = sample_surface(&truth, 4096, 1).unwrap().points;
-        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let (half, truth, _, planes) = box_and_planes();
         let mut mesh = blob_of_box(half, 2);
         let before = mesh.faces.len();
         let report = sharpen(&mut mesh, &planes, &SharpenOptions::default());
@@ -1213,12 +1226,25 @@ mod tests {
     }
 
     #[test]
+    fn the_rounds_after_the_first_split_at_most_later_refine_times() {
+        let (half, _, _, planes) = box_and_planes();
+        let blob = blob_of_box(half, 2);
+        // Each round ends with the box's few large faces, far longer than three spacings, so
+        // every round splits as often as it may: twice in the first, `later_refine` after.
+        for later_refine in [0, 1, 2] {
+            let opts = SharpenOptions {
+                passes: 4,
+                later_refine,
+                ..SharpenOptions::default()
+            };
+            let report = sharpen(&mut blob.clone(), &planes, &opts);
+            assert_eq!(report.refinements, 2 + 3 * later_refine, "{report:?}");
+        }
+    }
+
+    #[test]
     fn the_judge_picks_the_last_round_it_accepts_or_none() {
-        let half = Vec3::new(0.9, 0.45, 0.63);
-        let points = sample_surface(&cuboid(-half, half), 4096, 1)
-            .unwrap()
-            .points;
-        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let (half, _, _, planes) = box_and_planes();
         let blob = blob_of_box(half, 2);
         let opts = SharpenOptions::default();
         // Asked of the last round first: refusing three questions keeps round passes - 3.
@@ -1283,10 +1309,7 @@ mod tests {
 
     #[test]
     fn a_finely_split_box_decimates_back_to_a_box() {
-        let half = Vec3::new(0.9, 0.45, 0.63);
-        let truth = cuboid(-half, half);
-        let points = sample_surface(&truth, 4096, 1).unwrap().points;
-        let planes = PointPlanes::new(&points, SharpenOptions::default().plane_neighbours);
+        let (_, truth, _, planes) = box_and_planes();
         let mut e = EditMesh::new(
             truth.positions.iter().map(|p| p.as_dvec3()).collect(),
             &truth.faces,
