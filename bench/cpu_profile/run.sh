@@ -16,13 +16,15 @@ MESHFLOW="${MESHFLOW:-$TARGET/release/meshflow}"
 mkdir -p "$OUT/pkg"
 wasm-bindgen --target web --out-dir "$OUT/pkg" --out-name meshflow_cpu \
     "$TARGET/wasm32-unknown-unknown/wasm-release-cpu/meshflow.wasm"
-node "$ROOT/bench/cpu_profile/wasm.mjs" "$OUT/pkg" "$INPUT" "$ROUNDS" "$OUT/wasm.json"
+node --cpu-prof --cpu-prof-dir "$OUT/prof" --cpu-prof-interval 500 \
+    "$ROOT/bench/cpu_profile/wasm.mjs" "$OUT/pkg" "$INPUT" "$ROUNDS" "$OUT/wasm_run.json"
+python3 "$ROOT/bench/cpu_profile/wasm_self.py" "$OUT"/prof/*.cpuprofile "$((ROUNDS + 1))" "$OUT/wasm.json"
 FREQ=1000
 RAYON_NUM_THREADS=1 perf record -q -F "$FREQ" --call-graph dwarf,32768 -o "$OUT/perf.data" \
     "$MESHFLOW" bench generate --input "$INPUT" --runs "$ROUNDS" -o "$OUT/native_bench.json" >/dev/null
-# bench generate runs one generation more than --runs (its warm-up).
+# Each side runs one generation more than ROUNDS, a warm-up, and counts it (bench generate's).
 perf script -i "$OUT/perf.data" --no-inline 2>/dev/null |
     python3 "$ROOT/bench/cpu_profile/native.py" "$FREQ" "$((ROUNDS + 1))" "$OUT/native.json"
-rm -rf "$OUT/perf.data" "$OUT/pkg"
+rm -rf "$OUT/perf.data" "$OUT/pkg" "$OUT/prof"
 grep -m1 "model name" /proc/cpuinfo | sed 's/.*: /machine: /'
 python3 "$ROOT/bench/cpu_profile/table.py" "$OUT/wasm.json" "$OUT/native.json" | tee "$OUT/table.md"

@@ -1,11 +1,12 @@
-// The page's CPU module in V8 (Node runs the same engine as Chromium), one thread, profiled by
-// the inspector's sampling profiler around the generations only: self time per wasm function,
-// for bench/cpu_profile/run.sh. Not a test.
-//   node bench/cpu_profile/wasm.mjs PKG_DIR INPUT ROUNDS OUT.json
+// The page's CPU module in V8 (Node runs the same engine as Chromium), one thread: the
+// generations that bench/cpu_profile/run.sh profiles with `node --cpu-prof` (wasm_self.py
+// then keeps the samples inside `MeshFlow.generate`). Not a test.
+//   node --cpu-prof --cpu-prof-dir DIR bench/cpu_profile/wasm.mjs PKG_DIR INPUT ROUNDS OUT.json
 // PKG_DIR holds meshflow_cpu.js and its module built with its name section (run.sh makes it
-// with wasm-bindgen from cargo's output, before wasm-opt strips the names).
+// with wasm-bindgen from cargo's output, before wasm-opt strips the names). It runs ROUNDS + 1
+// generations, the first a warm-up that is profiled too (as `meshflow bench generate` is under
+// perf); OUT.json gets their mean wall time and the last one's stage times.
 import { readFileSync, writeFileSync } from 'node:fs';
-import { Session } from 'node:inspector/promises';
 import { join, resolve } from 'node:path';
 import { fileURLToPath, pathToFileURL } from 'node:url';
 
@@ -22,31 +23,11 @@ const model = await glue.MeshFlow.load(
   'cpu',
 );
 const points = glue.readInput(readFileSync(input), input).points;
-await model.generate(points, '{}', null); // warm-up, unprofiled
-
-const session = new Session();
-session.connect();
-await session.post('Profiler.enable');
-await session.post('Profiler.setSamplingInterval', { interval: 500 });
-await session.post('Profiler.start');
 const started = performance.now();
 let stages = null;
-for (let r = 0; r < Number(rounds); r++) {
+for (let r = 0; r <= Number(rounds); r++) {
   const mesh = await model.generate(points, '{}', null);
   stages = JSON.parse(mesh.report).times;
 }
-const wall = (performance.now() - started) / 1000;
-const { profile } = await session.post('Profiler.stop');
-
-// Self time per function: each sample's interval to the node it landed in.
-const byId = new Map(profile.nodes.map((n) => [n.id, n]));
-const self = new Map();
-for (let i = 0; i < profile.samples.length; i++) {
-  const name = byId.get(profile.samples[i]).callFrame.functionName || '(anonymous)';
-  const dt = (profile.timeDeltas[i + 1] ?? 0) / 1e6;
-  self.set(name, (self.get(name) ?? 0) + dt);
-}
-const perGeneration = Object.fromEntries(
-  [...self].map(([name, s]) => [name, s / Number(rounds)]).sort((a, b) => b[1] - a[1]),
-);
-writeFileSync(out, JSON.stringify({ wall_s: wall / Number(rounds), stages, self_s: perGeneration }, null, 1));
+const wall = (performance.now() - started) / 1000 / (Number(rounds) + 1);
+writeFileSync(out, JSON.stringify({ wall_s: wall, stages }, null, 1));
