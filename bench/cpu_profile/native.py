@@ -8,6 +8,7 @@ thread, has its own stack.) Not a test.
 """
 
 import collections
+import itertools
 import json
 import re
 import sys
@@ -24,7 +25,8 @@ def frame(line):
 
 
 stack = []
-for line in list(sys.stdin) + ["\n"]:
+# Streamed: a few generations' `perf script` is hundreds of megabytes.
+for line in itertools.chain(sys.stdin, ["\n"]):
     if line.strip():
         if line[0] in " \t":
             stack.append(frame(line))
