@@ -1,10 +1,12 @@
 // Browser end-to-end tests: the page and the npm package in Debian's headless Chromium
 // (WebGPU through SwiftShader), driven by playwright-core. Run by scripts/test.sh after
 // scripts/build-web.sh: `node tests/e2e/browser.test.mjs`. Prints one line per check and a
-// `browser: N passed, N failed` summary; exits non-zero on a failure.
+// `browser: N passed, N failed` summary; exits non-zero on a failure. Its working folder (the
+// screenshots, the downloads, the packed package: about 50 MB) is removed after a clean run and
+// kept after a failure, or always with MESHFLOW_E2E_KEEP=1.
 import { chromium } from 'playwright-core';
 import { execFileSync } from 'node:child_process';
-import { mkdtempSync, readFileSync, writeFileSync, mkdirSync } from 'node:fs';
+import { mkdtempSync, readFileSync, writeFileSync, mkdirSync, rmSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { basename, join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
@@ -958,5 +960,7 @@ await check('the CPU path inside wasm and `meshflow generate` make the same mesh
 server.close();
 plainServer.close();
 const failed = results.filter(([, ok]) => !ok).length;
-console.log(`browser: ${results.length - failed} passed, ${failed} failed (screenshots in ${out})`);
+const keep = failed > 0 || process.env.MESHFLOW_E2E_KEEP === '1';
+if (!keep) rmSync(out, { recursive: true, force: true });
+console.log(`browser: ${results.length - failed} passed, ${failed} failed` + (keep ? ` (screenshots in ${out})` : ''));
 process.exit(failed ? 1 : 0);
