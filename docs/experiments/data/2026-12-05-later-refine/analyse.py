@@ -12,7 +12,6 @@ later_refine.md and later_refine.png beside this script: each measure against th
 time, one point per arm.
 """
 import json
-import math
 import pathlib
 import re
 import sys
@@ -24,6 +23,8 @@ import matplotlib.pyplot as plt
 
 src = pathlib.Path(sys.argv[1])
 here = pathlib.Path(__file__).parent
+sys.path.insert(0, str(here.parents[3] / "bench"))
+from paired import paired  # noqa: E402  (bench/paired.py)
 SHIPPED = "p8_lr2"
 KEYS = [
     ("chamfer_x100", "CD x100", 3),
@@ -42,21 +43,6 @@ def order(arm):
 
 def load(name):
     return json.loads((src / name).read_text())
-
-
-def per_mesh(o, key):
-    """A per-mesh figure: the edge F-score sits under `sharp`, the rest at the top."""
-    return o["sharp"]["edge_f_score"]["f_score"] if key == "edge_f_score" else o[key]
-
-
-def paired(a, b, key):
-    d = [per_mesh(x["ours"], key) - per_mesh(y["ours"], key)
-         for x, y in zip(a["per_mesh"], b["per_mesh"])
-         if x["ours"] and y["ours"] and x["name"] == y["name"]]
-    n = len(d)
-    mean = sum(d) / n
-    sd = math.sqrt(sum((x - mean) ** 2 for x in d) / (n - 1))
-    return mean, sd / math.sqrt(n)
 
 
 arms = sorted((p.stem[4:] for p in src.glob("val_p*_lr*.json")), key=order)

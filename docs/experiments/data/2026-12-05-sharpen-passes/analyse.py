@@ -8,7 +8,6 @@ standard error (the same meshes and seeds in every arm, so the pairing removes t
 own spread); then the hard-surface set's means. Writes passes.md and passes.png beside it.
 """
 import json
-import math
 import pathlib
 import sys
 
@@ -19,6 +18,8 @@ import matplotlib.pyplot as plt
 
 src = pathlib.Path(sys.argv[1])
 here = pathlib.Path(__file__).parent
+sys.path.insert(0, str(here.parents[3] / "bench"))
+from paired import paired  # noqa: E402  (bench/paired.py)
 arms = sorted(int(p.stem[5:]) for p in src.glob("val_p*.json"))
 KEYS = [
     ("chamfer_x100", "CD x100", 3),
@@ -32,21 +33,6 @@ KEYS = [
 
 def load(name):
     return json.loads((src / name).read_text())
-
-
-def per_mesh(o, key):
-    """A per-mesh figure: the edge F-score sits under `sharp`, the rest at the top."""
-    return o["sharp"]["edge_f_score"]["f_score"] if key == "edge_f_score" else o[key]
-
-
-def paired(a, b, key):
-    d = [per_mesh(x["ours"], key) - per_mesh(y["ours"], key)
-         for x, y in zip(a["per_mesh"], b["per_mesh"])
-         if x["ours"] and y["ours"] and x["name"] == y["name"]]
-    n = len(d)
-    mean = sum(d) / n
-    sd = math.sqrt(sum((x - mean) ** 2 for x in d) / (n - 1))
-    return mean, sd / math.sqrt(n)
 
 
 val = {p: load(f"val_p{p}.json") for p in arms}

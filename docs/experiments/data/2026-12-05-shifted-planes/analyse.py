@@ -19,6 +19,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 here = pathlib.Path(__file__).parent
+sys.path.insert(0, str(here.parents[3] / "bench"))
+from paired import mean_se  # noqa: E402  (bench/paired.py)
 ARMS = ["base", "shift", "shift2", "shift3"]
 NAMES = {
     "base": "own planes (shipped)",
@@ -61,9 +63,7 @@ for arm in ARMS:
         x, y = column("base", key), column(arm, key)
         pairs = [(a, b) for a, b in zip(x, y) if not (math.isnan(a) or math.isnan(b))]
         mean = sum(b for _, b in pairs) / len(pairs)
-        d = [b - a for a, b in pairs]
-        dm = sum(d) / len(d)
-        se = math.sqrt(sum((v - dm) ** 2 for v in d) / len(d) / len(d))
+        dm, se = mean_se([b - a for a, b in pairs])
         diffs[(arm, key)] = (dm, se)
         cells.append(f"{mean:.4g}" + ("" if arm == "base" else f" ({dm:+.3g} ± {se:.2g})"))
     lines.append(f"| {NAMES[arm]} | " + " | ".join(cells) + " |")
