@@ -5,6 +5,7 @@
 mod common;
 
 use burn::tensor::Device;
+use common::temp_dir;
 use meshflow::model::dit::DitConfig;
 use meshflow::rng::Rng;
 use meshflow::train::TrainObserver;
@@ -59,13 +60,6 @@ impl TrainObserver for Quiet {
     }
 }
 
-fn temp_dir(tag: &str) -> std::path::PathBuf {
-    let dir = std::env::temp_dir().join(format!("meshflow-dit-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 #[test]
 fn flow_loss_falls_on_fixed_latents() {
     let device = Device::flex();
@@ -81,11 +75,12 @@ fn flow_loss_falls_on_fixed_latents() {
         validate_dit(&dit, &cfg, &data, &device)
     };
     let dir = temp_dir("loss");
+    let dir = dir.path();
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let trained = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
+    let trained = train_dit(&cfg, None, &data, &data, dir, &device, &mut quiet).unwrap();
     assert_eq!(trained.steps, 150);
     let weights = trained.weights;
     let dit = meshflow::model::load_module(
@@ -99,7 +94,6 @@ fn flow_loss_falls_on_fixed_latents() {
     // Flow matching keeps an irreducible loss (the noise is not predictable from x_t alone),
     // so "falls" means clearly, not to zero: 2.33 -> 1.47 when this was written.
     assert!(trained < 0.7 * untrained, "{untrained} -> {trained}");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -109,26 +103,28 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
     let mut cfg = config(8);
     cfg.checkpoint_every = 4;
     let a_dir = temp_dir("a");
+    let a_dir = a_dir.path();
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let a = train_dit(&cfg, None, &data, &data, &a_dir, &device, &mut quiet)
+    let a = train_dit(&cfg, None, &data, &data, a_dir, &device, &mut quiet)
         .unwrap()
         .weights;
     let b_dir = temp_dir("b");
+    let b_dir = b_dir.path();
     let mut stopping = Quiet {
         stop_at: Some(4),
         last: 0,
     };
-    let partial = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut stopping).unwrap();
+    let partial = train_dit(&cfg, None, &data, &data, b_dir, &device, &mut stopping).unwrap();
     assert_eq!(partial.steps, 4);
     assert_eq!(partial.earlier_s, 0.0, "a fresh run has no earlier time");
     let mut quiet = Quiet {
         stop_at: None,
         last: 0,
     };
-    let resumed = train_dit(&cfg, None, &data, &data, &b_dir, &device, &mut quiet).unwrap();
+    let resumed = train_dit(&cfg, None, &data, &data, b_dir, &device, &mut quiet).unwrap();
     assert_eq!(resumed.steps, 8);
     assert!(
         resumed.earlier_s > 0.0,
@@ -147,7 +143,8 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
             .fold(0.0, f32::max)
     };
     let c_dir = temp_dir("c");
-    let c = train_dit(&cfg, None, &data, &data, &c_dir, &device, &mut quiet)
+    let c_dir = c_dir.path();
+    let c = train_dit(&cfg, None, &data, &data, c_dir, &device, &mut quiet)
         .unwrap()
         .weights;
     eprintln!(
@@ -156,8 +153,6 @@ fn resumed_dit_run_matches_an_uninterrupted_one() {
         diff(&a, &b)
     );
     assert_eq!(a, b);
-    let _ = std::fs::remove_dir_all(&a_dir);
-    let _ = std::fs::remove_dir_all(&b_dir);
 }
 
 /// A sphere's surface samples (model frame) as a training example with 160 vertices merged 4
@@ -304,18 +299,18 @@ fn a_dit_that_reads_points_learns_what_only_the_points_say() {
         cfg.model.point_tokens = point_tokens;
         cfg.ema_decay = None;
         let dir = temp_dir(&format!("points{point_tokens}"));
+        let dir = dir.path();
         let mut quiet = Quiet {
             stop_at: None,
             last: 0,
         };
-        let trained = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet).unwrap();
+        let trained = train_dit(&cfg, None, &data, &data, dir, &device, &mut quiet).unwrap();
         let dit = meshflow::model::load_module(
             meshflow::model::dit::Dit::new(&cfg.model, &device),
             &trained.weights,
             &|_| false,
         )
         .unwrap();
-        let _ = std::fs::remove_dir_all(&dir);
         (
             validate_dit(&dit, &cfg, &data, &device),
             trained.weights.tensors.len(),
@@ -344,15 +339,15 @@ fn sub_batches_on_threads_train_as_the_whole_batch() {
         cfg.model.point_tokens = 16;
         cfg.data_parallel = parts;
         let dir = temp_dir(&format!("split-{tag}-{parts}"));
+        let dir = dir.path();
         let mut quiet = Quiet {
             stop_at: None,
             last: 0,
         };
-        let weights = train_dit(&cfg, None, &data, &data, &dir, &device, &mut quiet)
+        let weights = train_dit(&cfg, None, &data, &data, dir, &device, &mut quiet)
             .unwrap()
             .weights;
-        let steps = common::loss_and_grad_norm(&dir);
-        let _ = std::fs::remove_dir_all(&dir);
+        let steps = common::loss_and_grad_norm(dir);
         (weights, steps)
     };
     common::assert_split_trains_as_whole(3, 8, run);

@@ -1,10 +1,13 @@
 //! Table-driven malformed inputs: every reader must answer each with the specific typed
 //! error (never a panic, never an `Ok`), with a non-empty message.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use std::path::Path;
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use common::temp_dir;
 use meshflow::io::{
     Format, Limits, Location, MAX_NODE_VISITS, MAX_PRIMITIVE_INSTANCES, ReadError, encode_base64,
     read_bytes, read_path, write_glb,
@@ -380,14 +383,6 @@ fn unknown_format_has_a_message() {
     assert!(!ReadError::UnknownFormat.to_string().is_empty());
 }
 
-/// A fresh, empty temporary folder for one test.
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("meshflow-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 /// Runs `f` on another thread and fails the test if it has not answered within 20 s (so a
 /// read that blocks or never ends is a failure, not a hung test run).
 fn promptly<T: Send + 'static>(what: &str, f: impl FnOnce() -> T + Send + 'static) -> T {
@@ -429,6 +424,7 @@ fn gltf_buffer() -> Vec<u8> {
 #[test]
 fn gltf_external_buffer_uris_stay_in_the_folder() {
     let dir = temp_dir("gltf-uris");
+    let dir = dir.path();
     let inner = dir.join("in");
     std::fs::create_dir_all(inner.join("sub")).unwrap();
     // Valid buffers both inside and outside the folder: only the URI rule can refuse.
@@ -478,13 +474,13 @@ fn gltf_external_buffer_uris_stay_in_the_folder() {
             other => panic!("`{uri}`: {other:?}"),
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[cfg(unix)]
 #[test]
 fn gltf_external_buffer_must_be_a_regular_file() {
     let dir = temp_dir("gltf-special");
+    let dir = dir.path();
     let gltf_at = |uri: &str| {
         let p = dir.join(format!("{uri}.gltf"));
         std::fs::write(&p, gltf_external(uri)).unwrap();
@@ -510,7 +506,6 @@ fn gltf_external_buffer_must_be_a_regular_file() {
             "{r:?}"
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `/proc` files report a size of 0 whatever they hold: the limit must hold on the bytes
@@ -524,6 +519,7 @@ fn reads_stop_at_the_limit_whatever_the_metadata_says() {
     };
     assert_eq!(std::fs::metadata(status).unwrap().len(), 0);
     let dir = temp_dir("gltf-proc");
+    let dir = dir.path();
     std::os::unix::fs::symlink(status, dir.join("status.bin")).unwrap();
     let doc = gltf_external("status.bin");
     std::fs::write(dir.join("m.gltf"), &doc).unwrap();
@@ -544,12 +540,12 @@ fn reads_stop_at_the_limit_whatever_the_metadata_says() {
         matches!(e, ReadError::TooLarge { what: "file size in bytes", value, .. } if value == limit + 1),
         "{e:?}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn gltf_external_buffers_share_one_size_limit() {
     let dir = temp_dir("gltf-total");
+    let dir = dir.path();
     let mut b = gltf_buffer();
     b.resize(4096, 0);
     std::fs::write(dir.join("b.bin"), b).unwrap();
@@ -585,12 +581,12 @@ fn gltf_external_buffers_share_one_size_limit() {
         ),
         "{e:?}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn read_path_refuses_what_is_not_a_regular_file() {
     let dir = temp_dir("read-path-kinds");
+    let dir = dir.path();
     // Named like a mesh, so neither the extension nor sniffing is what refuses it.
     let folder = dir.join("folder.obj");
     std::fs::create_dir_all(&folder).unwrap();
@@ -628,7 +624,6 @@ fn read_path_refuses_what_is_not_a_regular_file() {
             );
         }
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -1,9 +1,12 @@
 //! Runs the Khronos glTF validator (through `tests/validate-gltf.mjs`) on GLBs from
 //! `write_glb`. Needs Node.js and `npm ci` at the repository root.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
+use common::temp_dir;
 use glam::Vec3;
 use meshflow::Mesh;
 use meshflow::geometry::primitives::{grid, icosphere};
@@ -17,8 +20,8 @@ fn write_glb_output_passes_the_khronos_validator() {
         "node_modules/gltf-validator is missing: run `npm ci` in {}",
         root.display()
     );
-    let dir = std::env::temp_dir().join(format!("meshflow-glb-validate-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("glb-validate");
+    let dir = dir.path();
 
     let mut sphere = icosphere(2);
     sphere.normals = sphere.positions.iter().map(|p| p.normalize()).collect();
@@ -54,5 +57,4 @@ fn write_glb_output_passes_the_khronos_validator() {
         out.status.success(),
         "glTF validator reported errors:\n{stdout}{stderr}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

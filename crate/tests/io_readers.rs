@@ -1,5 +1,8 @@
 //! Readers on small hand-written inputs, one or more per format variant.
 
+mod common;
+
+use common::temp_dir;
 use glam::Vec3;
 use meshflow::Mesh;
 use meshflow::io::{Format, Limits, encode_base64, read_bytes, read_path};
@@ -276,7 +279,8 @@ fn gltf_mirroring_flips_winding_and_normals() {
 
 #[test]
 fn gltf_external_buffer_via_read_path() {
-    let dir = std::env::temp_dir().join(format!("meshflow-gltf-ext-{}", std::process::id()));
+    let dir = temp_dir("gltf-ext");
+    let dir = dir.path();
     std::fs::create_dir_all(dir.join("sub dir")).unwrap();
     std::fs::write(dir.join("sub dir/b.bin"), gltf_buffer()).unwrap();
     let doc = gltf_doc([1.0; 3], "sub%20dir/b.bin");
@@ -289,7 +293,6 @@ fn gltf_external_buffer_via_read_path() {
         read_bytes(doc.as_bytes(), Format::Gltf, &Limits::default()),
         Err(meshflow::io::ReadError::Unsupported { .. })
     ));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -403,13 +406,12 @@ fn gltf_interleaved_stride_u8_indices_matrix_and_quantized_normals() {
 
 #[test]
 fn gltf_missing_external_buffer_is_an_io_error() {
-    let dir = std::env::temp_dir().join(format!("meshflow-gltf-missing-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("gltf-missing");
+    let dir = dir.path();
     std::fs::write(dir.join("m.gltf"), gltf_doc([1.0; 3], "nope.bin")).unwrap();
     let e = read_path(&dir.join("m.gltf"), &Limits::default()).unwrap_err();
     assert!(matches!(e, meshflow::io::ReadError::Io(_)), "{e:?}");
     assert!(!e.to_string().is_empty());
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

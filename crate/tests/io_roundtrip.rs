@@ -1,5 +1,8 @@
 //! Write -> read round trips for the three writers (GLB, OBJ, PLY).
 
+mod common;
+
+use common::temp_dir;
 use glam::Vec3;
 use meshflow::Mesh;
 use meshflow::geometry::primitives::{cube, grid, icosphere};
@@ -110,8 +113,8 @@ fn write_glb_renormalises_and_drops_bad_normals() {
 
 #[test]
 fn write_path_and_read_path() {
-    let dir = std::env::temp_dir().join(format!("meshflow-io-rt-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = temp_dir("io-rt");
+    let dir = dir.path();
     let m = with_normals(icosphere(1));
     for ext in ["glb", "obj", "ply", "GLB"] {
         let p = dir.join(format!("m.{ext}"));
@@ -143,7 +146,7 @@ fn write_path_and_read_path() {
     );
     let missing = dir.join("no-such-folder/m.glb");
     assert!(write_path(&m, &missing).is_err());
-    let mut left: Vec<String> = std::fs::read_dir(&dir)
+    let mut left: Vec<String> = std::fs::read_dir(dir)
         .unwrap()
         .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
         .collect();
@@ -152,7 +155,6 @@ fn write_path_and_read_path() {
         left,
         ["again.glb", "m.GLB", "m.glb", "m.obj", "m.ply", "noext"]
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]

@@ -5,9 +5,8 @@
 
 mod common;
 
-use std::path::PathBuf;
-
 use burn::tensor::Device;
+use common::temp_dir;
 use meshflow::Mesh;
 use meshflow::eval::metrics::edge_scores;
 use meshflow::geometry::normalize::Normalization;
@@ -71,21 +70,15 @@ impl TrainObserver for Quiet {
     }
 }
 
-fn temp_dir(tag: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("meshflow-{tag}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
-}
-
 #[test]
 fn small_vae_overfits_a_few_meshes() {
     let device = Device::flex();
     let cfg = small_config(400);
     let data = meshes();
     let dir = temp_dir("overfit");
+    let dir = dir.path();
     let mut quiet = Quiet::new();
-    let trained = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
+    let trained = train_vae(&cfg, &data, &data, dir, &device, &mut quiet).unwrap();
     assert_eq!(trained.steps, 400);
     let vae = load_module(MeshVae::new(&cfg.model, &device), &trained.weights, &|_| {
         false
@@ -97,7 +90,6 @@ fn small_vae_overfits_a_few_meshes() {
     assert!(v.mask_accuracy >= 0.99, "mask accuracy {}", v.mask_accuracy);
     let log = std::fs::read_to_string(dir.join("metrics.jsonl")).unwrap();
     assert!(log.lines().count() >= 400, "a metrics line per step");
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
@@ -110,20 +102,23 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     let data = meshes();
 
     let straight = temp_dir("straight");
+
+    let straight = straight.path();
     let mut quiet = Quiet::new();
-    let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
+    let a = train_vae(&cfg, &data, &data, straight, &device, &mut quiet).unwrap();
 
     // Stop after step 7 (between scheduled checkpoints: the stop writes one), then start
     // again in the same folder.
     let resumed = temp_dir("resumed");
+    let resumed = resumed.path();
     let mut stopping = Quiet {
         stop_at: Some(7),
         last: 0,
     };
-    let partial = train_vae(&cfg, &data, &data, &resumed, &device, &mut stopping).unwrap();
+    let partial = train_vae(&cfg, &data, &data, resumed, &device, &mut stopping).unwrap();
     assert_eq!(partial.steps, 7);
     let mut quiet = Quiet::new();
-    let b = train_vae(&cfg, &data, &data, &resumed, &device, &mut quiet).unwrap();
+    let b = train_vae(&cfg, &data, &data, resumed, &device, &mut quiet).unwrap();
     assert_eq!(b.steps, 12);
     assert_eq!(
         a.weights, b.weights,
@@ -133,9 +128,7 @@ fn resuming_from_a_checkpoint_gives_the_same_weights() {
     // A changed configuration is refused instead of silently mixing runs.
     let mut other = cfg.clone();
     other.learning_rate *= 2.0;
-    assert!(train_vae(&other, &data, &data, &resumed, &device, &mut quiet).is_err());
-    let _ = std::fs::remove_dir_all(&straight);
-    let _ = std::fs::remove_dir_all(&resumed);
+    assert!(train_vae(&other, &data, &data, resumed, &device, &mut quiet).is_err());
 }
 
 /// The per-step loss lines of a run's metrics log, without the wall-clock fields.
@@ -173,27 +166,31 @@ fn a_run_killed_after_a_checkpoint_resumes_with_the_same_metrics_and_weights() {
     let data = meshes();
 
     let straight = temp_dir("kill-straight");
+
+    let straight = straight.path();
     let mut quiet = Quiet::new();
-    let a = train_vae(&cfg, &data, &data, &straight, &device, &mut quiet).unwrap();
+    let a = train_vae(&cfg, &data, &data, straight, &device, &mut quiet).unwrap();
 
     // Run to the step-8 checkpoint and keep a copy of it; run on to step 10, then put the
     // step-8 checkpoint back: the state a kill at step 10 leaves (log ahead of checkpoint).
     let killed = temp_dir("kill-resumed");
+    let killed = killed.path();
     let saved = temp_dir("kill-saved");
+    let saved = saved.path();
     let mut stopping = Quiet {
         stop_at: Some(8),
         last: 0,
     };
-    train_vae(&cfg, &data, &data, &killed, &device, &mut stopping).unwrap();
-    copy_dir(&killed.join("checkpoint"), &saved);
+    train_vae(&cfg, &data, &data, killed, &device, &mut stopping).unwrap();
+    copy_dir(&killed.join("checkpoint"), saved);
     let mut stopping = Quiet {
         stop_at: Some(10),
         last: 0,
     };
-    train_vae(&cfg, &data, &data, &killed, &device, &mut stopping).unwrap();
+    train_vae(&cfg, &data, &data, killed, &device, &mut stopping).unwrap();
     std::fs::remove_dir_all(killed.join("checkpoint")).unwrap();
-    copy_dir(&saved, &killed.join("checkpoint"));
-    let b = train_vae(&cfg, &data, &data, &killed, &device, &mut quiet).unwrap();
+    copy_dir(saved, &killed.join("checkpoint"));
+    let b = train_vae(&cfg, &data, &data, killed, &device, &mut quiet).unwrap();
 
     assert_eq!(a.weights, b.weights, "same weights as the unbroken run");
     // The time axis goes on from the checkpoint's time instead of starting again at 0, so a
@@ -209,15 +206,12 @@ fn a_run_killed_after_a_checkpoint_resumes_with_the_same_metrics_and_weights() {
         "elapsed_s never goes back across the resume: {elapsed:?}"
     );
     assert!(b.earlier_s > 0.0 && b.earlier_s <= elapsed[8]);
-    let (la, lb) = (step_losses(&straight), step_losses(&killed));
+    let (la, lb) = (step_losses(straight), step_losses(killed));
     assert_eq!(la.len(), 12);
     assert_eq!(
         la, lb,
         "same per-step metrics as the unbroken run, each step once"
     );
-    for d in [&straight, &killed, &saved] {
-        let _ = std::fs::remove_dir_all(d);
-    }
 }
 
 #[test]
@@ -319,9 +313,9 @@ fn latent_noise_reaches_training_and_none_leaves_it_as_it_was() {
         let mut cfg = small_config(3);
         cfg.latent_noise = noise;
         let dir = temp_dir(tag);
+        let dir = dir.path();
         let mut quiet = Quiet::new();
-        let trained = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).unwrap();
-        let _ = std::fs::remove_dir_all(&dir);
+        let trained = train_vae(&cfg, &data, &data, dir, &device, &mut quiet).unwrap();
         trained.weights
     };
     let plain = weights(0.0, "noise-off");
@@ -413,12 +407,12 @@ fn bad_configurations_fail_before_any_step_naming_the_field() {
         let mut cfg = small_config(5);
         spoil(&mut cfg);
         let dir = temp_dir(&format!("bad-{field}"));
-        let err = train_vae(&cfg, &data, &data, &dir, &device, &mut quiet)
+        let dir = dir.path();
+        let err = train_vae(&cfg, &data, &data, dir, &device, &mut quiet)
             .err()
             .unwrap_or_else(|| panic!("{field}: accepted"));
         assert!(err.to_string().contains(field), "{field}: {err}");
         assert!(!dir.join("metrics.jsonl").exists(), "{field}: no step ran");
-        let _ = std::fs::remove_dir_all(&dir);
     }
 }
 
@@ -431,7 +425,7 @@ fn trained_base(dir: &str) -> meshflow::model::TensorMap {
         &small_config(60),
         &data,
         &data,
-        &temp_dir(dir),
+        temp_dir(dir).path(),
         &Device::flex(),
         &mut quiet,
     )
@@ -453,8 +447,9 @@ fn decoder_only_training_keeps_the_latent_space() {
     cfg.decoder_only = true;
     cfg.seed = 3;
     let dir = temp_dir("dec-only");
-    assert!(train_vae(&cfg, &data, &data, &dir, &device, &mut quiet).is_err());
-    let tuned = train_vae_from(&cfg, Some(&first), &data, &data, &dir, &device, &mut quiet)
+    let dir = dir.path();
+    assert!(train_vae(&cfg, &data, &data, dir, &device, &mut quiet).is_err());
+    let tuned = train_vae_from(&cfg, Some(&first), &data, &data, dir, &device, &mut quiet)
         .unwrap()
         .weights;
     let (mut kept, mut changed) = (0, 0);
@@ -502,7 +497,9 @@ fn decoder_only_training_can_start_a_decoder_of_another_size() {
     assert!(!other_latents.same_encoder(&base.model));
 
     let dir = temp_dir("wide-dec");
-    let err = train_vae_from(&cfg, Some(&first), &data, &data, &dir, &device, &mut quiet)
+
+    let dir = dir.path();
+    let err = train_vae_from(&cfg, Some(&first), &data, &data, dir, &device, &mut quiet)
         .err()
         .expect("old decoder shapes accepted");
     assert!(err.to_string().contains("does not match"), "{err}");
@@ -515,17 +512,9 @@ fn decoder_only_training_can_start_a_decoder_of_another_size() {
             .map(|(name, t)| (name.clone(), t.clone()))
             .collect(),
     };
-    let wide = train_vae_from(
-        &cfg,
-        Some(&encoder),
-        &data,
-        &data,
-        &dir,
-        &device,
-        &mut quiet,
-    )
-    .unwrap()
-    .weights;
+    let wide = train_vae_from(&cfg, Some(&encoder), &data, &data, dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
     for (name, tensor) in &encoder.tensors {
         assert_eq!(&wide.tensors[name], tensor, "{name} changed");
     }
@@ -580,7 +569,9 @@ fn vertex_blocks_start_as_the_identity_and_then_learn() {
     assert_eq!(before.edge_f1, grown_before.edge_f1);
 
     let dir = temp_dir("vertex-blocks");
-    let trained = train_vae_from(&cfg, Some(&base), &data, &data, &dir, &device, &mut quiet)
+
+    let dir = dir.path();
+    let trained = train_vae_from(&cfg, Some(&base), &data, &data, dir, &device, &mut quiet)
         .unwrap()
         .weights;
     let out_projection = "decoder.vertex_blocks.0.attn1.to_out.0.weight";
@@ -626,17 +617,10 @@ fn widened_edge_embeddings_learn_in_a_decoder_only_run() {
         validate(&vae, &data, &cfg, &device, 0).unwrap().val_loss
     };
     let dir = temp_dir("edge-wide");
-    let trained = train_vae_from(
-        &cfg,
-        Some(&widened),
-        &data,
-        &data,
-        &dir,
-        &device,
-        &mut quiet,
-    )
-    .unwrap()
-    .weights;
+    let dir = dir.path();
+    let trained = train_vae_from(&cfg, Some(&widened), &data, &data, dir, &device, &mut quiet)
+        .unwrap()
+        .weights;
     // Row 3 * edge_dim / 4 is the first added time channel.
     let (name, hidden) = (
         "decoder.adjacency_head.2.weight",
@@ -680,7 +664,9 @@ fn a_pair_head_starts_silent_and_learns_in_a_decoder_only_run() {
     assert_eq!(before.edge_f1_best_tau, grown_before.edge_f1_best_tau);
 
     let dir = temp_dir("pair-head");
-    let trained = train_vae_from(&cfg, Some(&base), &data, &data, &dir, &device, &mut quiet)
+
+    let dir = dir.path();
+    let trained = train_vae_from(&cfg, Some(&base), &data, &data, dir, &device, &mut quiet)
         .unwrap()
         .weights;
     let output = "decoder.pair_head.2.weight";
@@ -852,12 +838,12 @@ fn sub_batches_on_threads_train_as_the_whole_batch() {
             let mut c = cfg.clone();
             c.data_parallel = parts;
             let dir = temp_dir(&format!("split-{tag}-{parts}-{}", cfg.decoder_only));
+            let dir = dir.path();
             let init = cfg.decoder_only.then_some(&base);
-            let weights = train_vae_from(&c, init, &data, &data, &dir, &device, &mut Quiet::new())
+            let weights = train_vae_from(&c, init, &data, &data, dir, &device, &mut Quiet::new())
                 .unwrap()
                 .weights;
-            let steps = common::loss_and_grad_norm(&dir);
-            let _ = std::fs::remove_dir_all(&dir);
+            let steps = common::loss_and_grad_norm(dir);
             (weights, steps)
         };
         common::assert_split_trains_as_whole(parts, 8, run);

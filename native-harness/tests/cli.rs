@@ -25,10 +25,15 @@ fn json(out: &Output) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).expect("JSON on stdout")
 }
 
-fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("meshflow-cli-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+/// A fresh, empty folder under the system's temporary folder for one test, named
+/// `meshflow-{tag}-` and a random suffix; removed with everything in it when the returned guard
+/// drops, whether the test passes or panics (keep the guard in scope: `let dir =
+/// temp_dir("x"); let dir = dir.path();`).
+fn temp_dir(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("meshflow-cli-{tag}-"))
+        .tempdir()
+        .expect("a temporary folder")
 }
 
 #[test]
@@ -111,6 +116,7 @@ fn extract_round_trip_keeps_every_face_of_clean_meshes() {
     }
     // The open, multi-part deck chair keeps its faces too; its boundary is what it is.
     let dir = temp_dir("extract");
+    let dir = dir.path();
     let out = dir.join("chair.glb");
     let r = json(&meshflow(&[
         "extract",
@@ -131,6 +137,7 @@ fn extract_round_trip_keeps_every_face_of_clean_meshes() {
 #[test]
 fn sample_convert_compare_pipeline() {
     let dir = temp_dir("pipeline");
+    let dir = dir.path();
     let mesh = fixture("meshes/bread.obj");
     let points = dir.join("points.ply");
     let out = meshflow(&[
@@ -181,6 +188,7 @@ fn sample_convert_compare_pipeline() {
 #[test]
 fn bad_input_is_one_line_and_status_2() {
     let dir = temp_dir("bad");
+    let dir = dir.path();
     let cases: [(&str, &[u8]); 4] = [
         ("truncated.stl", &[0u8; 90]),
         ("nan.obj", b"v 0 0 0\nv 1 nan 0\nv 0 1 0\nf 1 2 3\n"),
@@ -316,6 +324,7 @@ fn train_vae(data: &Path, out: &Path, config: &Path, extra: &[&str]) -> Output {
 #[test]
 fn train_reconstruct_and_eval_on_the_fixture_dataset() {
     let dir = temp_dir("train");
+    let dir = dir.path();
     let run = dir.join("run");
     let _ = std::fs::remove_dir_all(&run);
     let config = dir.join("small.json");
@@ -496,13 +505,13 @@ fn train_reconstruct_and_eval_on_the_fixture_dataset() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn the_shipped_vae_reconstructs_a_fixture_mesh() {
     let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights");
     let dir = temp_dir("shipped");
+    let dir = dir.path();
     let glb = dir.join("lantern.glb");
     let lantern = fixture("meshes/stone_lantern.obj");
     let reconstruct = |extra: &[&str]| {
@@ -556,13 +565,13 @@ fn the_shipped_vae_reconstructs_a_fixture_mesh() {
         filtered["extract"]["faces"].as_u64().unwrap()
             <= report["extract"]["clique_faces"].as_u64().unwrap()
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
 fn train_dit_on_latents_of_the_shipped_vae() {
     let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights");
     let dir = temp_dir("dit");
+    let dir = dir.path();
     let run = dir.join("run");
     let _ = std::fs::remove_dir_all(&run);
     let config = dir.join("dit.json");
@@ -634,14 +643,13 @@ fn train_dit_on_latents_of_the_shipped_vae() {
             .unwrap()
             .is_finite()
     );
-    generate_with_a_trained_dit(&weights, &run, &dir);
+    generate_with_a_trained_dit(&weights, &run, dir);
     // A DiT sized for other latents than the VAE makes is refused.
     std::fs::write(&config, tiny(num_latents / 2)).unwrap();
     let a = args(&config);
     let out = meshflow(&a.iter().map(String::as_str).collect::<Vec<_>>());
     assert_eq!(out.status.code(), Some(2));
     assert!(String::from_utf8_lossy(&out.stderr).contains("latents"));
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// `generate` (single file, folder, bad input) and `eval generate` with the shipped VAE and
@@ -904,6 +912,7 @@ fn generate_with_a_trained_dit(shipped: &Path, run: &Path, dir: &Path) {
 fn the_shipped_models_generate_on_lavapipe() {
     let weights = Path::new(env!("CARGO_MANIFEST_DIR")).join("../weights");
     let dir = temp_dir("shipped-generate");
+    let dir = dir.path();
     let glb = dir.join("lantern.glb");
     let points = fixture("points/stone_lantern_2048.ply");
     let report = json(&meshflow(&[
@@ -936,7 +945,6 @@ fn the_shipped_models_generate_on_lavapipe() {
         String::from_utf8_lossy(&out.stdout),
         String::from_utf8_lossy(&out.stderr)
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// Run from a folder with no weights and no `--weights`, `generate` uses the copy compiled into
@@ -944,6 +952,7 @@ fn the_shipped_models_generate_on_lavapipe() {
 #[test]
 fn generate_finds_the_built_in_weights_from_any_folder() {
     let dir = temp_dir("anywhere");
+    let dir = dir.path();
     let cache = dir.join("cache");
     let points = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../tests/fixtures/points/stone_lantern_2048.ply");
@@ -956,7 +965,7 @@ fn generate_finds_the_built_in_weights_from_any_folder() {
             "--steps",
             "2",
         ])
-        .current_dir(&dir)
+        .current_dir(dir)
         .env_remove("MESHFLOW_WEIGHTS")
         .env("XDG_CACHE_HOME", &cache)
         .output()
@@ -975,5 +984,4 @@ fn generate_finds_the_built_in_weights_from_any_folder() {
         written.len() == 1 && written[0].starts_with("weights-"),
         "{written:?}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -8,6 +8,17 @@ use burn::tensor::Device;
 use meshflow::pipeline::shipped::ShippedModels;
 use safetensors::{Dtype, SafeTensors};
 
+/// A fresh, empty folder under the system's temporary folder for one test, named
+/// `meshflow-{tag}-` and a random suffix; removed with everything in it when the returned guard
+/// drops, whether the test passes or panics (keep the guard in scope: `let dir =
+/// temp_dir("x"); let dir = dir.path();`).
+pub fn temp_dir(tag: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("meshflow-{tag}-"))
+        .tempdir()
+        .expect("a temporary folder")
+}
+
 /// The repository root (the folder above the crate).
 pub fn repo_root() -> PathBuf {
     PathBuf::from(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
