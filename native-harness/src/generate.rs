@@ -151,7 +151,7 @@ pub struct SamplingArgs {
     complete_neighbours: usize,
     /// Leave open the holes completion could not fill (by default each is closed where the
     /// input goes on, by a fan around one new vertex or a triangulation of its border, never
-    /// folded; only when completing).
+    /// folded; only when completing; and again, without cuts, after sharpening).
     #[arg(long)]
     no_close_holes: bool,
     /// Hole closing: leave open the loops of more than this many edges (0 = no limit).

@@ -1044,6 +1044,8 @@ fn sharpens(opts: &GenerateOptions) -> bool {
 /// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which). Sharpening
 /// starts from the kept mesh snapped to a grid ([`SHARPEN_GRID_BITS`]), so that the browser's
 /// CPU path and the CLI, whose fitted positions differ by a few ulps, sharpen the same mesh.
+/// The holes the kept round still has are closed once more ([`close_sharpened`]:
+/// [`SharpenReport::holes_closed`] counts them).
 pub fn sharpen_kept(
     mut g: Generated,
     points: &[Vec3],
@@ -1080,6 +1082,17 @@ pub fn sharpen_kept(
         ok
     });
     report.input_distance_before = before;
+    // The holes the sharpened mesh still has, closed where its flatter rim now lets a patch
+    // lie on the input without folding.
+    if report.accepted
+        && let Some((_, topology)) = last.as_ref()
+        && let Some(closed) = close_sharpened(&mesh, topology, points, &opts.close)
+    {
+        report.holes_closed = closed.holes_closed;
+        let (m, t) = (closed.mesh, closed.topology);
+        last = Some((input_score(&m, t.holes, points, planes), t));
+        mesh = m;
+    }
     if let Some((score, topology)) = last {
         report.input_distance_after = score;
         if report.accepted {
@@ -1091,6 +1104,49 @@ pub fn sharpen_kept(
     g.sharpen = report;
     g.times.fit_s += started.elapsed().as_secs_f64();
     g
+}
+
+/// A sharpened mesh with some of its holes closed ([`close_sharpened`]).
+struct ClosedSharpened {
+    mesh: Mesh,
+    topology: TopologyReport,
+    holes_closed: usize,
+}
+
+/// The holes that the sharpened `mesh` (with its `topology`) still has, closed by
+/// [`close_holes`] against the input `points` with the `close` options but without cutting
+/// rim faces. Hole closing before sharpening refuses the patches that would fold onto a
+/// crumpled rim; sharpening flattens many of those rims, and then a patch lies flat. No cuts:
+/// on the meshes still crumpled after sharpening, cutting rim faces and closing the larger
+/// loops capped across their folds (docs/experiments/2026-12-05-close-after-sharpening.md).
+/// `None` when closing is off, nothing closes, or the result would have more non-manifold,
+/// inconsistently wound, folded or degenerate edges or faces than `mesh`.
+fn close_sharpened(
+    mesh: &Mesh,
+    topology: &TopologyReport,
+    points: &[Vec3],
+    close: &CloseOptions,
+) -> Option<ClosedSharpened> {
+    if !close.enabled || topology.holes == 0 {
+        return None;
+    }
+    let mut closed = mesh.clone();
+    let opts = CloseOptions {
+        max_cut_faces: 0,
+        ..*close
+    };
+    let report = close_holes(&mut closed, &InputPoints::new(points), &opts);
+    let after = TopologyReport::of(&closed);
+    let clean = after.holes < topology.holes
+        && after.non_manifold_edges <= topology.non_manifold_edges
+        && after.inconsistent_winding_edges <= topology.inconsistent_winding_edges
+        && after.folded_edges <= topology.folded_edges
+        && after.degenerate_faces <= topology.degenerate_faces;
+    (report.holes_closed > 0 && clean).then_some(ClosedSharpened {
+        mesh: closed,
+        topology: after,
+        holes_closed: report.holes_closed,
+    })
 }
 
 /// [`keep_sharpened`] of each input's candidates, side by side.
@@ -1223,4 +1279,55 @@ pub fn read_bits(
 
 pub(crate) fn vec3s(flat: &[f32]) -> Vec<Vec3> {
     flat.chunks_exact(3).map(Vec3::from_slice).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::geometry::primitives::icosphere;
+
+    /// A sphere with the faces around its first vertex taken out (a hole of 5 edges, about
+    /// 0.6 of the radius across), and 4,096 points of the whole sphere.
+    fn holed_sphere() -> (Mesh, TopologyReport, Vec<Vec3>) {
+        let sphere = icosphere(2);
+        let points = sample_surface(&sphere, 4096, 7).unwrap().points;
+        let mut holed = sphere.clone();
+        holed.faces.retain(|f| !f.contains(&0));
+        let topology = TopologyReport::of(&holed);
+        assert_eq!(topology.holes, 1);
+        (holed, topology, points)
+    }
+
+    #[test]
+    fn a_hole_where_the_points_go_on_is_closed_after_sharpening() {
+        let (holed, topology, points) = holed_sphere();
+        let closed =
+            close_sharpened(&holed, &topology, &points, &CloseOptions::default()).expect("closed");
+        assert_eq!((closed.topology.holes, closed.holes_closed), (0, 1));
+        assert_eq!(closed.topology.non_manifold_edges, 0);
+        assert_eq!(closed.topology.folded_edges, 0);
+        assert_eq!(closed.mesh.faces.len(), holed.faces.len() + 5);
+    }
+
+    #[test]
+    fn a_hole_the_points_do_not_cover_stays_open_and_closing_can_be_turned_off() {
+        let (holed, topology, points) = holed_sphere();
+        let hole_centre = holed.positions[0];
+        // The input has the hole too, and wider than the gap allowed across it.
+        let open: Vec<Vec3> = points
+            .iter()
+            .copied()
+            .filter(|p| p.distance(hole_centre) > 0.5)
+            .collect();
+        let close = CloseOptions::default();
+        assert!(close_sharpened(&holed, &topology, &open, &close).is_none());
+        let off = CloseOptions {
+            enabled: false,
+            ..close
+        };
+        assert!(close_sharpened(&holed, &topology, &points, &off).is_none());
+        let closed_sphere = icosphere(2);
+        let whole = TopologyReport::of(&closed_sphere);
+        assert!(close_sharpened(&closed_sphere, &whole, &points, &close).is_none());
+    }
 }

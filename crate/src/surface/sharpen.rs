@@ -160,6 +160,11 @@ pub struct SharpenReport {
     /// The round whose mesh was kept (the last that the judge of [`sharpen_judged`]
     /// accepted; 0 when none was, or sharpening did not run).
     pub rounds_kept: usize,
+    /// Holes that generation closed in the kept round's mesh (hole closing again, now that
+    /// sharpening has flattened their rims: `pipeline::generate::sharpen_kept`); absent from
+    /// reports written before, and read as 0.
+    #[serde(default)]
+    pub holes_closed: usize,
 }
 
 impl SharpenReport {
@@ -195,7 +200,11 @@ impl std::fmt::Display for SharpenReport {
             self.flips,
             self.collapses,
             100.0 * self.model_edges_kept
-        )
+        )?;
+        if self.holes_closed > 0 {
+            write!(f, "; {} holes closed after it", self.holes_closed)?;
+        }
+        Ok(())
     }
 }
 

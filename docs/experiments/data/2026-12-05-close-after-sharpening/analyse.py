@@ -1,0 +1,68 @@
+"""Closing holes after sharpening: the table and the plot of
+docs/experiments/2026-12-05-close-after-sharpening.md from the per-mesh CSVs beside this file.
+    python3 analyse.py [DIR]"""
+import csv
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
+from paired import mean_se  # noqa: E402
+
+here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
+ARMS = {
+    "val": ["base", "cut10", "cut5", "cut3", "guard10", "guard5", "nocut10", "nocut5"],
+    "hs": ["base", "cut10", "nocut10", "nocut5"],
+    "hsn": ["base", "cut10", "nocut10", "nocut5"],
+}
+
+
+def load(split, arm):
+    with open(os.path.join(here, f"{split}_{arm}.per_mesh.csv")) as f:
+        return {r["name"]: {k: float(r[k]) if r[k] else None for k in KEYS} for r in csv.DictReader(f)}
+
+
+def mean(rows, k):
+    v = [r[k] for r in rows.values() if r[k] is not None]
+    return sum(v) / len(v)
+
+
+def paired(a, b, k):
+    d = [a[n][k] - b[n][k] for n in a if n in b and a[n][k] is not None and b[n][k] is not None]
+    return mean_se(d)
+
+
+points = []
+for split, arms in ARMS.items():
+    base = load(split, "base")
+    print(f"\n{split}: arm | " + " | ".join(KEYS) + " | changed meshes | CD vs base | NC vs base | holes vs base")
+    for arm in arms:
+        rows = load(split, arm)
+        cells = [f"{mean(rows, 'cd'):.3f}", f"{mean(rows, 'nc'):.4f}", f"{mean(rows, 'ecd'):.2f}",
+                 f"{mean(rows, 'ef1'):.4f}", f"{mean(rows, 'faces'):.1f}", f"{mean(rows, 'holes'):.3f}"]
+        changed = sum(1 for n in rows if rows[n]["faces"] != base[n]["faces"] or rows[n]["cd"] != base[n]["cd"])
+        line = f"| {arm} | " + " | ".join(cells) + f" | {changed} |"
+        if arm != "base" and split == "val":
+            (dc, sc), (dn, sn), (dh, sh) = (paired(rows, base, k) for k in ("cd", "nc", "holes"))
+            line += f" {dc:+.3f} ± {sc:.3f} | {dn:+.4f} ± {sn:.4f} | {dh:+.3f} ± {sh:.3f} |"
+            points.append((arm, dh, sh, dc, sc))
+        print(line)
+
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit(0)
+fig, ax = plt.subplots(figsize=(6, 4.5))
+for i, (arm, dh, sh, dc, sc) in enumerate(points):
+    ax.errorbar(dh, dc, xerr=sh, yerr=sc, fmt="o", capsize=3)
+    # Staggered labels: the arms near zero CD lie close together.
+    ax.annotate(arm, (dh, dc), textcoords="offset points", xytext=(4, 6 + 12 * (i % 3)), fontsize=8)
+ax.axhline(0, color="grey", lw=0.5)
+ax.axvline(0, color="grey", lw=0.5)
+ax.set_xlabel("holes a mesh, paired change from 79d5737 (mean ± s.e.)")
+ax.set_ylabel("CD x100, paired change (mean ± s.e.)")
+ax.set_title("Validation split, 226 meshes: closing after sharpening")
+fig.tight_layout()
+fig.savefig(os.path.join(here, "close_after.png"), dpi=110)
