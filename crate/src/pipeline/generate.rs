@@ -1116,7 +1116,7 @@ struct ClosedSharpened {
 /// The holes that the sharpened `mesh` (with its `topology`) still has, closed by
 /// [`close_holes`] against the input `points` with the `close` options but without cutting
 /// rim faces. Hole closing before sharpening refuses the patches that would fold onto a
-/// crumpled rim; sharpening flattens many of those rims, and then a patch lies flat. No cuts:
+/// crumpled rim; sharpening flattens some of those rims, and then a patch lies flat. No cuts:
 /// on the meshes still crumpled after sharpening, cutting rim faces and closing the larger
 /// loops capped across their folds (docs/experiments/2026-12-05-close-after-sharpening.md).
 /// `None` when closing is off, nothing closes, or the result would have more non-manifold,

@@ -44,7 +44,7 @@
 //! would fold onto it along the rim, so the rim stays open: an open sheet, not a shell doubled
 //! over onto itself. A curved open shell (a tube, a bowl) keeps its rim open too, as its cap
 //! would span air. Generation closes again after sharpening (`pipeline::generate::sharpen_kept`),
-//! without cuts: sharpening flattens many crumpled rims, and a patch that folded onto one
+//! without cuts: sharpening flattens some crumpled rims, and a patch that folded onto one
 //! before lies flat on it after. Cost: a few nearest-point
 //! queries per loop, and the O(k^3) triangulation for the loops a fan cannot close; a few
 //! milliseconds at 512 vertices.
