@@ -945,23 +945,15 @@ impl<'p> Coverage<'p> {
             .collect();
         let nearest = map_in_parallel(self.points.iter().collect(), |_, &x| {
             // The faces of the 3 nearest vertices, each once (a repeat never wins: the
-            // first of equals does).
-            let mut seen: Vec<u32> = Vec::with_capacity(24);
-            let faces = live
-                .k_nearest(x.as_vec3(), 3)
-                .flat_map(|(v, _)| m.faces_of(v).iter().copied())
-                .filter(|f| {
-                    let new = !seen.contains(f);
-                    if new {
-                        seen.push(*f);
+            // first of equals does), borrowed from `bounded`.
+            let mut faces: Vec<(u32, &([DVec3; 3], Bound))> = Vec::with_capacity(24);
+            for (v, _) in live.k_nearest(x.as_vec3(), 3) {
+                for &f in m.faces_of(v) {
+                    if !faces.iter().any(|&(g, _)| g == f) {
+                        faces.push((f, bounded[f as usize].as_ref().expect("live")));
                     }
-                    new
-                })
-                .map(|f| {
-                    let (t, bound) = bounded[f as usize].expect("live");
-                    (f, t, bound)
-                })
-                .collect::<Vec<_>>();
+                }
+            }
             nearest_triangle(x, &faces, None)
         });
         for (i, n) in nearest.into_iter().enumerate() {
@@ -1045,17 +1037,17 @@ impl<'p> Coverage<'p> {
     /// `moved` points, each to its nearest face around the surviving vertex `a` (its own face,
     /// where it survived, measured first: most points stay on it).
     fn give(&mut self, m: &EditMesh, a: u32, moved: Vec<(u32, u32)>) {
-        let fan: Vec<(u32, [DVec3; 3], Bound)> = m
+        let fan: Vec<(u32, ([DVec3; 3], Bound))> = m
             .faces_of(a)
             .iter()
             .map(|&f| {
                 let t = m.corners(m.faces[f as usize].expect("live"));
-                (f, t, Bound::around(t))
+                (f, (t, Bound::around(t)))
             })
             .collect();
         for (p, was) in moved {
             let y = self.points[p as usize];
-            let guess = fan.iter().position(|&(f, _, _)| f == was);
+            let guess = fan.iter().position(|&(f, _)| f == was);
             if let Some((d, f)) = nearest_triangle(y, &fan, guess) {
                 self.of_face[f as usize].push(p);
                 self.now[p as usize] = d;
