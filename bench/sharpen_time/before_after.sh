@@ -3,14 +3,19 @@
 # round): first, each input generated at the defaults by both, and the GLBs compared byte for
 # byte (a change meant to be exact must give the same meshes); then `meshflow bench generate
 # --runs 2` at the defaults, alternating the builds, ROUNDS times, with the BEFORE build's
-# unsharpened generation (`--no-sharpen`, what issue 52's time target compares with) as a
-# third arm. JSON per run in OUT (INPUT_ARM_rROUND.json, ARM one of before, after, plain),
-# then a Markdown table of the higher of the rounds' medians.
+# unsharpened generation (`--no-sharpen`) as a third arm. JSON per run in OUT
+# (INPUT_ARM_rROUND.json, ARM one of before, after, plain), then a Markdown table of the
+# higher of the rounds' medians.
 #
 #   bash bench/sharpen_time/before_after.sh BEFORE_BINARY AFTER_BINARY OUT [ROUNDS]
+#
+# PLAIN=after takes the unsharpened arm from the AFTER build instead, for a BEFORE build
+# older than `--no-sharpen` (the build issue 52 was filed against, which had no sharpening).
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)"
 BEFORE="$1"; AFTER="$2"; OUT="$3"; ROUNDS="${4:-2}"
+PLAIN="${PLAIN:-before}"
+case "$PLAIN" in before) PLAIN_BIN="$BEFORE" ;; after) PLAIN_BIN="$AFTER" ;; *) echo "PLAIN must be before or after" >&2; exit 2 ;; esac
 mkdir -p "$OUT/meshes"
 inputs=(
     "$ROOT/tests/fixtures/hard_surface/points/box.ply"
@@ -35,17 +40,17 @@ for round in $(seq 1 "$ROUNDS"); do
         name="$(basename "$input" .ply)"
         "$BEFORE" bench generate --input "$input" --runs 2 -o "$OUT/${name}_before_r$round.json" >/dev/null
         "$AFTER" bench generate --input "$input" --runs 2 -o "$OUT/${name}_after_r$round.json" >/dev/null
-        "$BEFORE" bench generate --input "$input" --runs 2 --no-sharpen -o "$OUT/${name}_plain_r$round.json" >/dev/null
+        "$PLAIN_BIN" bench generate --input "$input" --runs 2 --no-sharpen -o "$OUT/${name}_plain_r$round.json" >/dev/null
     done
 done
-python3 - "$OUT" <<'PY'
+python3 - "$OUT" "$PLAIN" <<'PY'
 import json, pathlib, sys
-out = pathlib.Path(sys.argv[1])
+out, plain = pathlib.Path(sys.argv[1]), sys.argv[2]
 rows = {}
 for f in sorted(out.glob("*_r*.json")):
     name, arm, _ = f.stem.rsplit("_", 2)
     rows.setdefault(name, {}).setdefault(arm, []).append(json.loads(f.read_text()))
-print("| input | unsharpened (before) | total, before | total, after | after / before | after / unsharpened | fit stage, before | fit stage, after | faces |")
+print(f"| input | unsharpened ({plain}) | total, before | total, after | after / before | after / unsharpened | fit stage, before | fit stage, after | faces |")
 print("|---|---:|---:|---:|---:|---:|---:|---:|---:|")
 for name, arms in rows.items():
     worst = lambda arm, f: max(f(r) for r in arms[arm])
