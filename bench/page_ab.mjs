@@ -9,12 +9,11 @@
 // $CARGO_TARGET_DIR/release/meshflow), CHROMIUM the browser (default /usr/bin/chromium). One
 // warm-up generation per tab is not counted. OUT gets every run's click-to-mesh time and
 // stage times, and the CLI's process time and stage times.
-import { chromium } from 'playwright-core';
-import { execFileSync } from 'node:child_process';
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
-import { homedir, tmpdir } from 'node:os';
+import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
+import { chromiumVersion, generateOnCli, generateOnPage, launchBrowser, meshflowBinary, openPage } from './page_timing.mjs';
 
 const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const args = process.argv.slice(2);
@@ -29,16 +28,10 @@ if (!outFile || !(rounds > 0) || trees.length !== 2) {
   console.error('usage: node bench/page_ab.mjs OUT.json ROUNDS TREE_A TREE_B [--input FILE]');
   process.exit(2);
 }
-const meshflow =
-  process.env.MESHFLOW ?? join(process.env.CARGO_TARGET_DIR ?? join(homedir(), '.cache/meshflow/target'), 'release/meshflow');
-const STAGES = ['condition_s', 'sample_s', 'decode_s', 'extract_s', 'fit_s'];
+const meshflow = meshflowBinary();
 
 const work = mkdtempSync(join(tmpdir(), 'meshflow-page-ab-'));
-const context = await chromium.launchPersistentContext(join(work, 'profile'), {
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox'],
-});
+const context = await launchBrowser(join(work, 'profile'));
 const servers = [];
 const tabs = [];
 for (const tree of trees.map((t) => resolve(t))) {
@@ -47,48 +40,19 @@ for (const tree of trees.map((t) => resolve(t))) {
   servers.push(server);
   for (const workers of ['', '&workers=1']) {
     const page = await context.newPage();
-    await page.goto(`http://127.0.0.1:${server.address().port}/web/?backend=cpu${workers}`);
-    await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 600_000 });
-    await page.setInputFiles('#file', input);
-    await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
-    const name = `${tree} ${workers ? 'one module' : `${await page.evaluate(() => document.body.dataset.workers)} workers`}`;
+    await openPage(page, () => page.goto(`http://127.0.0.1:${server.address().port}/web/?backend=cpu${workers}`), input);
+    // A page from before the workers (2026-12-02) has no `workers` and ignores `?workers=1`.
+    const count = await page.evaluate(() => document.body.dataset.workers);
+    const name = `${tree} ${workers || !count ? 'one module' : `${count} workers`}`;
     tabs.push({ name, tree, page, runs: [] });
   }
 }
 
-// Click to mesh on screen; the tab is brought to the front first (Chromium slows a background
-// tab).
-async function generate(tab) {
-  await tab.page.bringToFront();
-  const before = Number(await tab.page.evaluate(() => document.body.dataset.generated ?? 0));
-  const clicked = Date.now();
-  await tab.page.click('#generate');
-  await tab.page.waitForFunction((n) => Number(document.body.dataset.generated ?? 0) > n, before, { timeout: 1_800_000 });
-  const generate_s = (Date.now() - clicked) / 1000;
-  const report = await tab.page.evaluate(() => window.__meshflowReport);
-  return {
-    generate_s,
-    stages_s: Object.fromEntries(STAGES.map((k) => [k, report.times[k]])),
-    vertices: report.topology.vertices,
-    faces: report.topology.faces,
-  };
-}
-
-for (const tab of tabs) await generate(tab);
+for (const tab of tabs) await generateOnPage(tab.page);
 const cli = [];
 for (let round = 0; round < rounds; round++) {
-  for (const tab of round % 2 ? [...tabs].reverse() : tabs) tab.runs.push(await generate(tab));
-  const start = process.hrtime.bigint();
-  const stdout = execFileSync(meshflow, ['generate', input, '-o', join(work, 'cli.glb'), '--json', '--backend', 'cpu'], {
-    encoding: 'utf8',
-  });
-  const r = JSON.parse(stdout.trim().split('\n').pop());
-  cli.push({
-    process_s: Number(process.hrtime.bigint() - start) / 1e9,
-    stages_s: Object.fromEntries(STAGES.map((k) => [k, r.times[k]])),
-    vertices: r.topology.vertices,
-    faces: r.topology.faces,
-  });
+  for (const tab of round % 2 ? [...tabs].reverse() : tabs) tab.runs.push(await generateOnPage(tab.page));
+  cli.push(generateOnCli(meshflow, input, join(work, 'cli.glb')));
   console.log(
     `round ${round + 1}: ` +
       tabs.map((t) => `${t.name} ${t.runs.at(-1).generate_s.toFixed(2)} s (${t.runs.at(-1).faces} faces)`).join(', ') +
@@ -104,7 +68,7 @@ writeFileSync(
     {
       method: 'node bench/page_ab.mjs: click to mesh on screen per tab, the CLI process start to GLB written',
       date: new Date().toISOString(),
-      chromium: execFileSync(process.env.CHROMIUM ?? '/usr/bin/chromium', ['--version'], { encoding: 'utf8' }).trim(),
+      chromium: chromiumVersion(),
       input,
       tabs: tabs.map(({ name, tree, runs }) => ({ name, tree, runs })),
       cli,

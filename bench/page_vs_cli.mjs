@@ -19,22 +19,20 @@
 // before 2026-12-02); all three must make the same mesh. The first visit is the isolated page's.
 // MESHFLOW names the CLI (default
 // $CARGO_TARGET_DIR/release/meshflow); CHROMIUM the browser (default /usr/bin/chromium).
-import { chromium } from 'playwright-core';
-import { execFileSync, execSync } from 'node:child_process';
+import { execSync } from 'node:child_process';
 import { mkdtempSync, readFileSync, rmSync, writeFileSync } from 'node:fs';
-import { cpus, homedir, tmpdir } from 'node:os';
+import { cpus, tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { serve } from '../web/serve.mjs';
+import { STAGES, chromiumVersion, generateOnCli, generateOnPage, launchBrowser, median, meshflowBinary, openPage } from './page_timing.mjs';
 
 const ROOT = resolve(fileURLToPath(new URL('..', import.meta.url)));
 const arg = (name, fallback) => (process.argv.includes(name) ? process.argv[process.argv.indexOf(name) + 1] : fallback);
 const rounds = Number(arg('--rounds', 3)) || 3;
 const input = resolve(arg('--input', join(ROOT, 'tests/fixtures/points/stone_lantern_2048.ply')));
 const outFile = arg('-o', join(ROOT, 'bench/page_vs_cli.json'));
-const meshflow =
-  process.env.MESHFLOW ?? join(process.env.CARGO_TARGET_DIR ?? join(homedir(), '.cache/meshflow/target'), 'release/meshflow');
-const STAGES = ['condition_s', 'sample_s', 'decode_s', 'extract_s', 'fit_s'];
+const meshflow = meshflowBinary();
 
 const server = await serve(0);
 const url = `http://127.0.0.1:${server.address().port}/web/?backend=cpu`;
@@ -42,58 +40,18 @@ const plainServer = await serve(0, { isolated: false });
 const plainUrl = `http://127.0.0.1:${plainServer.address().port}/web/?backend=cpu`;
 const work = mkdtempSync(join(tmpdir(), 'meshflow-page-vs-cli-'));
 
-// Navigation (or reload) to the mesh on screen, less the scripted file pick and clicks.
+// Navigation (or reload) to the mesh on screen, less the scripted file pick and clicks; or, with
+// no `navigate`, one warm generation.
 async function pageRun(page, navigate) {
-  const start = Date.now();
-  if (navigate) await navigate();
-  let ready = 0;
-  if (navigate) {
-    await page.waitForFunction(() => document.body.dataset.backend, null, { timeout: 600_000 });
-    ready = (Date.now() - start) / 1000;
-    await page.setInputFiles('#file', input);
-    await page.waitForFunction(() => document.getElementById('input-info').textContent.includes('points'));
-  }
-  const before = Number(await page.evaluate(() => document.body.dataset.generated ?? 0));
-  const clicked = Date.now();
-  await page.click('#generate');
-  await page.waitForFunction((n) => Number(document.body.dataset.generated ?? 0) > n, before, { timeout: 1_800_000 });
-  const generate = (Date.now() - clicked) / 1000;
-  const report = await page.evaluate(() => window.__meshflowReport);
-  return {
-    model_ready_s: navigate ? ready : null,
-    generate_s: generate,
-    time_to_first_mesh_s: navigate ? ready + generate : null,
-    weights_from_cache: (await page.evaluate(() => document.body.dataset.weightsFromCache)) === 'true',
-    stages_s: Object.fromEntries(STAGES.map((k) => [k, report.times[k]])),
-    vertices: report.topology.vertices,
-    faces: report.topology.faces,
-  };
+  const ready = navigate ? await openPage(page, navigate, input) : null;
+  const run = await generateOnPage(page);
+  return { model_ready_s: ready, ...run, time_to_first_mesh_s: navigate ? ready + run.generate_s : null };
 }
 
-function cliRun(env = {}) {
-  const out = join(work, 'cli.glb');
-  const start = process.hrtime.bigint();
-  const stdout = execFileSync(meshflow, ['generate', input, '-o', out, '--json', '--backend', 'cpu'], {
-    encoding: 'utf8',
-    env: { ...process.env, ...env },
-  });
-  const wall = Number(process.hrtime.bigint() - start) / 1e9;
-  const r = JSON.parse(stdout.trim().split('\n').pop());
-  return {
-    process_s: wall,
-    load_s: r.load_s,
-    stages_s: Object.fromEntries(STAGES.map((k) => [k, r.times[k]])),
-    vertices: r.topology.vertices,
-    faces: r.topology.faces,
-  };
-}
+const cliRun = (env = {}) => generateOnCli(meshflow, input, join(work, 'cli.glb'), env);
 
 const profile = mkdtempSync(join(tmpdir(), 'meshflow-bench-'));
-const context = await chromium.launchPersistentContext(profile, {
-  executablePath: process.env.CHROMIUM ?? '/usr/bin/chromium',
-  headless: true,
-  args: ['--no-sandbox'],
-});
+const context = await launchBrowser(profile);
 const page = context.pages()[0] ?? (await context.newPage());
 const cold = await pageRun(page, () => page.goto(url));
 const warmVisit = await pageRun(page, () => page.reload());
@@ -108,14 +66,10 @@ const workersRuns = [];
 const pageRuns = [];
 const cliRuns = [];
 const oneThreadRuns = [];
-// Each tab is brought to the front before it generates: Chromium lowers a background tab's
-// priority, which took the two-worker page from 3.5 to 5.1 s in two of three rounds (2026-12-04).
+// Each tab is brought to the front before it generates (generateOnPage).
 for (let i = 0; i < rounds; i++) {
-  await page.bringToFront();
   pageRuns.push(await pageRun(page, null));
-  await plain.bringToFront();
   workersRuns.push(await pageRun(plain, null));
-  await single.bringToFront();
   singleRuns.push(await pageRun(single, null));
   cliRuns.push(cliRun());
   oneThreadRuns.push(cliRun({ RAYON_NUM_THREADS: '1' }));
@@ -135,7 +89,6 @@ plainServer.close();
 rmSync(profile, { recursive: true, force: true });
 rmSync(work, { recursive: true, force: true });
 
-const median = (xs) => [...xs].sort((a, b) => a - b)[Math.floor(xs.length / 2)];
 const pageMedian = median(pageRuns.map((r) => r.generate_s));
 const workersMedian = median(workersRuns.map((r) => r.generate_s));
 const singleMedian = median(singleRuns.map((r) => r.generate_s));
@@ -151,7 +104,7 @@ const stageTable = STAGES.map((k) => ({
 const cpuWasm = join(ROOT, 'web/pkg/meshflow_cpu_threads_bg.wasm');
 const result = {
   method:
-    `node bench/page_vs_cli.mjs --rounds ${rounds}: headless ${execSync(`${process.env.CHROMIUM ?? '/usr/bin/chromium'} --version`).toString().trim()}, ` +
+    `node bench/page_vs_cli.mjs --rounds ${rounds}: headless ${chromiumVersion()}, ` +
     `the page's CPU path (cross-origin isolated on ${threads} threads; not isolated, its candidates on ${workers} workers, and on one module with ?workers=1) and \`meshflow generate --backend cpu\` alternating on ${input.slice(ROOT.length + 1)} at the defaults; medians`,
   machine: `${cpus()[0].model}, ${cpus().length} threads`,
   commit: execSync('git rev-parse --short HEAD', { cwd: ROOT }).toString().trim(),
