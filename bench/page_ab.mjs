@@ -8,7 +8,8 @@
 // (the lantern scan by default, at the page's defaults). MESHFLOW names the CLI (default
 // $CARGO_TARGET_DIR/release/meshflow), CHROMIUM the browser (default /usr/bin/chromium). One
 // warm-up generation per tab is not counted. OUT gets every run's click-to-mesh time and
-// stage times, and the CLI's process time and stage times.
+// stage times, and the CLI's process time and stage times; `python3 bench/page_ab_table.py
+// OUT.json` prints its table.
 import { mkdtempSync, rmSync, writeFileSync } from 'node:fs';
 import { tmpdir } from 'node:os';
 import { join, resolve } from 'node:path';
