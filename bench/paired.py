@@ -1,6 +1,7 @@
 """Paired per-mesh differences between two `meshflow eval generate` runs on the same meshes,
 samples and seeds (the pairing removes the meshes' own spread): shared by the experiment
 log's analysis scripts (docs/experiments/data/*/analyse.py), which import it from here."""
+import csv
 import math
 
 
@@ -22,3 +23,23 @@ def paired(a, b, key):
     return mean_se([per_mesh(x["ours"], key) - per_mesh(y["ours"], key)
                     for x, y in zip(a["per_mesh"], b["per_mesh"])
                     if x["ours"] and y["ours"] and x["name"] == y["name"]])
+
+
+def load_rows(path, keys):
+    """The per-mesh CSV at `path` (an experiment's `NAME.per_mesh.csv`: a `name` column, then
+    figures) as {name: {key: float, or None where empty}} for `keys`."""
+    with open(path) as f:
+        return {r["name"]: {k: float(r[k]) if r[k] else None for k in keys} for r in csv.DictReader(f)}
+
+
+def mean_of(rows, key):
+    """The mean of `key` over the rows of `load_rows` that have it."""
+    v = [r[key] for r in rows.values() if r[key] is not None]
+    return sum(v) / len(v)
+
+
+def paired_rows(a, b, key):
+    """`key` of rows `a` minus rows `b` (both from `load_rows`), per mesh that both have it:
+    mean and standard error."""
+    return mean_se([a[n][key] - b[n][key] for n in a
+                    if n in b and a[n][key] is not None and b[n][key] is not None])

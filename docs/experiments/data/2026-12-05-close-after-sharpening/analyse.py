@@ -1,12 +1,11 @@
 """Closing holes after sharpening: the table and the plot of
 docs/experiments/2026-12-05-close-after-sharpening.md from the per-mesh CSVs beside this file.
     python3 analyse.py [DIR]"""
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import mean_se  # noqa: E402
+from paired import load_rows, mean_of as mean, paired_rows as paired  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
@@ -18,18 +17,7 @@ ARMS = {
 
 
 def load(split, arm):
-    with open(os.path.join(here, f"{split}_{arm}.per_mesh.csv")) as f:
-        return {r["name"]: {k: float(r[k]) if r[k] else None for k in KEYS} for r in csv.DictReader(f)}
-
-
-def mean(rows, k):
-    v = [r[k] for r in rows.values() if r[k] is not None]
-    return sum(v) / len(v)
-
-
-def paired(a, b, k):
-    d = [a[n][k] - b[n][k] for n in a if n in b and a[n][k] is not None and b[n][k] is not None]
-    return mean_se(d)
+    return load_rows(os.path.join(here, f"{split}_{arm}.per_mesh.csv"), KEYS)
 
 
 points = []

@@ -1,12 +1,11 @@
 """The candidate choice's hole weight: the table and the plot of
 docs/experiments/2026-12-06-hole-weight.md from the per-mesh CSVs beside this file.
     python3 analyse.py [DIR]"""
-import csv
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import mean_se  # noqa: E402
+from paired import load_rows, mean_of as mean, paired_rows as paired  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
@@ -15,17 +14,7 @@ ARMS = [("w0.5", 0.5), ("w1", 1), ("w2", 2), ("w4", 4), ("holes_first", 1e6)]
 
 
 def load(arm):
-    with open(os.path.join(here, f"val_{arm}.per_mesh.csv")) as f:
-        return {r["name"]: {k: float(r[k]) if r[k] else None for k in KEYS} for r in csv.DictReader(f)}
-
-
-def mean(rows, k):
-    v = [r[k] for r in rows.values() if r[k] is not None]
-    return sum(v) / len(v)
-
-
-def paired(a, b, k):
-    return mean_se([a[n][k] - b[n][k] for n in a if a[n][k] is not None and b[n][k] is not None])
+    return load_rows(os.path.join(here, f"val_{arm}.per_mesh.csv"), KEYS)
 
 
 base = load("w0.5")
