@@ -1,10 +1,12 @@
-// Two builds of the page side by side in one browser, on the CPU path without cross-origin
-// isolation (the candidates on single-threaded modules): each tree's own web/serve.mjs serves
-// that tree (its web/pkg and weights), in two tabs, on its default workers and with
-// `?workers=1`; the tabs generate in turn, the order reversed every other round, and one
-// `meshflow generate --json --backend cpu` process runs after each round. Not a test: run by
-// hand on an otherwise idle machine, after building each tree's web/pkg,
-//   node bench/page_ab.mjs OUT.json ROUNDS TREE_A TREE_B [--input FILE]
+// Two builds of the page side by side in one browser, on the CPU path: each tree's own
+// web/serve.mjs serves that tree (its web/pkg and weights), in two tabs. Without cross-origin
+// isolation (the default) the tabs are the page on its default workers and with `?workers=1`
+// (the candidates on single-threaded modules); with `--isolated` they are the isolated page on
+// its threaded module and with `?threads=0` (its workers). The tabs generate in turn, the order
+// reversed every other round, and one `meshflow generate --json --backend cpu` process runs
+// after each round. Not a test: run by hand on an otherwise idle machine, after building each
+// tree's web/pkg,
+//   node bench/page_ab.mjs OUT.json ROUNDS TREE_A TREE_B [--input FILE] [--isolated]
 // (the lantern scan by default, at the page's defaults). MESHFLOW names the CLI (default
 // $CARGO_TARGET_DIR/release/meshflow), CHROMIUM the browser (default /usr/bin/chromium). One
 // warm-up generation per tab is not counted. OUT gets every run's click-to-mesh time and
@@ -23,10 +25,12 @@ const flag = (name, fallback) => {
   return i < 0 ? fallback : args.splice(i, 2)[1];
 };
 const input = resolve(flag('--input', join(ROOT, 'tests/fixtures/points/stone_lantern_2048.ply')));
+const isolated = args.includes('--isolated');
+if (isolated) args.splice(args.indexOf('--isolated'), 1);
 const [outFile, roundsArg, ...trees] = args;
 const rounds = Number(roundsArg);
 if (!outFile || !(rounds > 0) || trees.length !== 2) {
-  console.error('usage: node bench/page_ab.mjs OUT.json ROUNDS TREE_A TREE_B [--input FILE]');
+  console.error('usage: node bench/page_ab.mjs OUT.json ROUNDS TREE_A TREE_B [--input FILE] [--isolated]');
   process.exit(2);
 }
 const meshflow = meshflowBinary();
@@ -37,15 +41,15 @@ const servers = [];
 const tabs = [];
 for (const tree of trees.map((t) => resolve(t))) {
   const { serve } = await import(join(tree, 'web/serve.mjs'));
-  const server = await serve(0, { isolated: false });
+  const server = await serve(0, { isolated });
   servers.push(server);
-  for (const workers of ['', '&workers=1']) {
+  for (const query of isolated ? ['', '&threads=0'] : ['', '&workers=1']) {
     const page = await context.newPage();
-    await openPage(page, () => page.goto(`http://127.0.0.1:${server.address().port}/web/?backend=cpu${workers}`), input);
+    await openPage(page, () => page.goto(`http://127.0.0.1:${server.address().port}/web/?backend=cpu${query}`), input);
     // A page from before the workers (2026-12-02) has no `workers` and ignores `?workers=1`.
-    const count = await page.evaluate(() => document.body.dataset.workers);
-    const name = `${tree} ${workers || !count ? 'one module' : `${count} workers`}`;
-    tabs.push({ name, tree, page, runs: [] });
+    const { workers, threads } = await page.evaluate(() => ({ ...document.body.dataset }));
+    const kind = threads && threads !== '0' ? `${threads} threads` : workers && query !== '&workers=1' ? `${workers} workers` : 'one module';
+    tabs.push({ name: `${tree} ${kind}`, tree, page, runs: [] });
   }
 }
 
@@ -67,7 +71,8 @@ writeFileSync(
   outFile,
   JSON.stringify(
     {
-      method: 'node bench/page_ab.mjs: click to mesh on screen per tab, the CLI process start to GLB written',
+      method: `node bench/page_ab.mjs${isolated ? ' --isolated' : ''}: click to mesh on screen per tab, the CLI process start to GLB written`,
+      isolated,
       date: new Date().toISOString(),
       chromium: chromiumVersion(),
       input,

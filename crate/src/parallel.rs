@@ -37,6 +37,14 @@ pub(crate) fn threads() -> usize {
     rayon::current_num_threads()
 }
 
+/// `f()` on one of rayon's threads: the parallel work inside it is then shared among the
+/// pool's threads, where from a thread outside the pool (the page's model worker in the
+/// threaded module) each parallel call is handed to the pool and waited for.
+#[cfg(all(target_arch = "wasm32", feature = "threads"))]
+pub(crate) fn on_pool<R: Send>(f: impl FnOnce() -> R + Send) -> R {
+    rayon::scope(|_| f())
+}
+
 /// The lengths of the contiguous runs that `count` items are cut into for `parts` workers: at
 /// most `parts` runs (at least one), of nearly equal length, the first ones one longer.
 pub(crate) fn run_lengths(count: usize, parts: usize) -> Vec<usize> {

@@ -6,16 +6,22 @@ mod common;
 
 use meshflow::pipeline::generate::GenerateOptions;
 
-#[test]
-fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
-    let (models, device) = common::shipped_on_cpu();
-    let generator = models.generator(&device);
-    let points = common::lantern_points();
+/// One candidate, unsharpened: a candidate as the default path draws it.
+fn one_candidate() -> GenerateOptions {
     let mut one = GenerateOptions {
         samples: 1,
         ..GenerateOptions::default()
     };
     one.sharpen.enabled = false;
+    one
+}
+
+#[test]
+fn candidates_drawn_in_parts_are_the_candidates_drawn_at_once() {
+    let (models, device) = common::shipped_on_cpu();
+    let generator = models.generator(&device);
+    let points = common::lantern_points();
+    let one = one_candidate();
     let all = generator
         .generate(&vec![points.clone(); 12], &one, &mut |_, _| true)
         .unwrap();
@@ -76,4 +82,39 @@ fn runs_on_threads_give_the_single_threaded_mesh() {
     assert_eq!(threads.mesh.faces, single.mesh.faces);
     assert_eq!(threads.mesh.positions, single.mesh.positions);
     assert_eq!(threads.input_score, single.input_score);
+}
+
+/// The browser's threaded module prepares its runs of candidates together (the input
+/// conditioned once) and decodes them side by side ([`Generator::prepare_runs`],
+/// [`Generator::decode_and_extract`]): the candidates are the ones drawn in one batch.
+///
+/// [`Generator::prepare_runs`]: meshflow::pipeline::generate::Generator::prepare_runs
+/// [`Generator::decode_and_extract`]: meshflow::pipeline::generate::Generator::decode_and_extract
+#[test]
+fn runs_prepared_together_are_the_candidates_drawn_at_once() {
+    let (models, device) = common::shipped_on_cpu();
+    let generator = models.generator(&device);
+    let points = common::lantern_points();
+    let all = generator
+        .generate(&vec![points.clone(); 12], &one_candidate(), &mut |_, _| {
+            true
+        })
+        .unwrap();
+    let opts = GenerateOptions {
+        samples: 12,
+        ..one_candidate()
+    };
+    let runs = [(0, 5), (5, 7)];
+    let prepared = generator.prepare_runs(&points, &opts, &runs).unwrap();
+    assert_eq!(prepared.len(), runs.len());
+    let mut drawn = Vec::new();
+    for p in prepared {
+        let x = generator.sample(&p, &opts, &mut |_, _| true).unwrap();
+        drawn.extend(generator.decode_and_extract(p, x, &opts).unwrap());
+    }
+    assert_eq!(drawn.len(), all.len());
+    for (j, (g, whole)) in drawn.iter().zip(&all).enumerate() {
+        assert_eq!(g.mesh.faces, whole.mesh.faces, "candidate {j}");
+        assert_eq!(g.mesh.positions, whole.mesh.positions, "candidate {j}");
+    }
 }

@@ -200,6 +200,27 @@ impl StageTimes {
     }
 }
 
+/// The meshes of runs of one batch that ran at the same time, in order, each with the runs'
+/// stage times together ([`StageTimes::beside`]); the first run that failed, failed.
+#[cfg(any(not(target_arch = "wasm32"), feature = "threads"))]
+pub(crate) fn runs_side_by_side(
+    outs: Vec<Result<Vec<Generated>, GenerateError>>,
+) -> Result<Vec<Generated>, GenerateError> {
+    let mut all = Vec::new();
+    let mut times = StageTimes::default();
+    for out in outs {
+        let out = out?;
+        if let Some(g) = out.first() {
+            times = times.beside(&g.times);
+        }
+        all.extend(out);
+    }
+    for g in &mut all {
+        g.times = times.clone();
+    }
+    Ok(all)
+}
+
 /// One generated mesh, in the input's frame.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Generated {
@@ -501,19 +522,7 @@ impl Generator<'_> {
                 self.generate_run(c, &s, opts, &mut |_, _| !cancelled.load(Ordering::Relaxed))
             },
         );
-        let mut all = Vec::new();
-        let mut times = StageTimes::default();
-        for out in outs {
-            let out = out?;
-            if let Some(g) = out.first() {
-                times = times.beside(&g.times);
-            }
-            all.extend(out);
-        }
-        for g in &mut all {
-            g.times = times.clone();
-        }
-        Ok(all)
+        runs_side_by_side(outs)
     }
 
     /// [`Self::generate`] for conditioned inputs that share one length (no threads to split
@@ -542,7 +551,17 @@ impl Generator<'_> {
         let started = Instant::now();
         let latents = self.sample(&prepared, opts, on_step)?;
         prepared.times.sample_s = started.elapsed().as_secs_f64();
+        self.decode_and_extract(prepared, latents, opts)
+    }
 
+    /// Stages 3 to 5 of a prepared batch sampled to `latents`, read back synchronously (native
+    /// backends and the CPU modules in wasm): decoded, extracted and fitted.
+    pub fn decode_and_extract(
+        &self,
+        mut prepared: Prepared,
+        latents: Tensor<3>,
+        opts: &GenerateOptions,
+    ) -> Result<Vec<Generated>, GenerateError> {
         let started = Instant::now();
         let out = self.decode(latents, &opts.extract);
         let mask_logits = read_vec(out.mask_logits)?;
@@ -587,6 +606,37 @@ impl Generator<'_> {
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
         let conditioned = self.condition_all(inputs, opts)?;
         self.prepare_conditioned(conditioned, &seeds)
+    }
+
+    /// [`Self::prepare`] for the candidates of one input drawn in runs, run `(first, count)` a
+    /// batch of its own whose row `k` is seeded by `opts.seed + first + k`: the input is
+    /// conditioned once for every run, and the runs are prepared side by side where there are
+    /// threads.
+    pub fn prepare_runs(
+        &self,
+        points: &[Vec3],
+        opts: &GenerateOptions,
+        runs: &[(usize, usize)],
+    ) -> Result<Vec<Prepared>, GenerateError> {
+        check_samples(opts.samples)?;
+        self.check_run(opts)?;
+        let conditioned = self.condition(points, opts)?;
+        let prepared = map_in_parallel(runs.to_vec(), |r, (first, count)| {
+            // The conditioning's time counts once, in the first row of the first run.
+            let rows: Vec<Conditioned> = (0..count)
+                .map(|k| Conditioned {
+                    took: if r == 0 && k == 0 {
+                        conditioned.took
+                    } else {
+                        Duration::ZERO
+                    },
+                    ..conditioned.clone()
+                })
+                .collect();
+            let seeds: Vec<u64> = (0..count).map(|k| opts.seed + (first + k) as u64).collect();
+            self.prepare_conditioned(rows, &seeds)
+        });
+        prepared.into_iter().collect()
     }
 
     /// The checks that need no input: the models fit together and there is a step to take.

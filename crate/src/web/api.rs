@@ -30,12 +30,16 @@ use web_time::Instant;
 use crate::io::{Format, Limits, read_bytes, write_glb, write_obj};
 use crate::model::sampler::step;
 use crate::model::schedule::step_times;
+#[cfg(not(feature = "threads"))]
 use crate::model::{add_pair_corrections, spacetime_distances};
 #[cfg(feature = "cpu")]
 use crate::pipeline::generate::check_samples;
+#[cfg(feature = "threads")]
+use crate::pipeline::generate::runs_side_by_side;
+#[cfg(not(feature = "threads"))]
+use crate::pipeline::generate::{DecodedHost, DeviceEdges, HostEdges, kept_slots, read_bits};
 use crate::pipeline::generate::{
-    DecodedHost, DeviceEdges, GenerateOptions, Generated, Generator, HostEdges, Prepared,
-    input_points, keep_sharpened, kept_slots, read_bits,
+    GenerateOptions, Generated, Generator, Prepared, input_points, keep_sharpened,
 };
 use crate::pipeline::shipped::ShippedModels;
 #[cfg(any(feature = "wgpu", feature = "webgl"))]
@@ -315,19 +319,17 @@ impl MeshFlow {
     ) -> Result<Vec<Generated>, JsError> {
         let generator = self.generator();
         // Each run as a batch of its own: its rows seeded by seed + their candidate index.
-        let runs: Vec<GenerateOptions> = candidate_runs(first, count)
-            .into_iter()
-            .map(|(run_first, run_count)| GenerateOptions {
+        let first_counts = candidate_runs(first, count);
+        let runs: Vec<GenerateOptions> = (first_counts.iter())
+            .map(|&(run_first, run_count)| GenerateOptions {
                 seed: opts.seed + run_first as u64,
                 samples: run_count,
                 ..opts.clone()
             })
             .collect();
-        let mut prepared = Vec::with_capacity(runs.len());
-        for run in &runs {
-            let rows = vec![points.to_vec(); run.samples];
-            prepared.push(generator.prepare(&rows, run).map_err(js_error)?);
-        }
+        let prepared = generator
+            .prepare_runs(points, opts, &first_counts)
+            .map_err(js_error)?;
 
         let started = Instant::now();
         let times = step_times(opts.steps, opts.schedule);
@@ -352,10 +354,45 @@ impl MeshFlow {
         }
         let sample_s = started.elapsed().as_secs_f64();
 
-        let mut candidates = Vec::with_capacity(count);
-        for ((mut prepared, x), run) in prepared.into_iter().zip(xs).zip(&runs) {
+        self.decode_runs(&generator, prepared, xs, &runs, sample_s)
+            .await
+    }
+
+    /// Stages 3 to 5 of the runs sampled to `xs` (their sampler's time `sample_s`), in the
+    /// threaded module side by side on rayon's threads, as natively: the CPU backend's
+    /// readback needs no waiting.
+    #[cfg(feature = "threads")]
+    async fn decode_runs(
+        &self,
+        generator: &Generator<'_>,
+        prepared: Vec<Prepared>,
+        xs: Vec<Tensor<3>>,
+        runs: &[GenerateOptions],
+        sample_s: f64,
+    ) -> Result<Vec<Generated>, JsError> {
+        let items: Vec<_> = prepared.into_iter().zip(xs).zip(runs).collect();
+        let outs = crate::parallel::map_in_parallel(items, |_, ((mut prepared, x), run)| {
             prepared.times.sample_s = sample_s;
-            candidates.extend(self.decode_run(&generator, prepared, x, run).await?);
+            generator.decode_and_extract(prepared, x, run)
+        });
+        runs_side_by_side(outs).map_err(js_error)
+    }
+
+    /// Stages 3 to 5 of the runs sampled to `xs` (their sampler's time `sample_s`), one run
+    /// after the other, with asynchronous readback (which the WebGPU module's device needs).
+    #[cfg(not(feature = "threads"))]
+    async fn decode_runs(
+        &self,
+        generator: &Generator<'_>,
+        prepared: Vec<Prepared>,
+        xs: Vec<Tensor<3>>,
+        runs: &[GenerateOptions],
+        sample_s: f64,
+    ) -> Result<Vec<Generated>, JsError> {
+        let mut candidates = Vec::new();
+        for ((mut prepared, x), run) in prepared.into_iter().zip(xs).zip(runs) {
+            prepared.times.sample_s = sample_s;
+            candidates.extend(self.decode_run(generator, prepared, x, run).await?);
         }
         Ok(candidates)
     }
@@ -375,20 +412,17 @@ impl MeshFlow {
             let p = &prepared[r];
             step(dit, opts.solver, x, t, t_next, p.cond.clone(), &p.condition)
         };
+        // Every run on the pool's threads, none on this one, which is outside the pool.
         #[cfg(feature = "threads")]
-        if xs.len() > 1 {
-            let parts = xs.len();
-            let items: Vec<(usize, Tensor<3>)> = xs.into_iter().enumerate().collect();
-            let each = |run: Vec<(usize, Tensor<3>)>| run.into_iter().map(one).collect::<Vec<_>>();
-            return crate::parallel::in_parts(items, parts, each, each)
-                .into_iter()
-                .flatten()
-                .collect();
-        }
+        return crate::parallel::map_in_parallel(xs.into_iter().enumerate().collect(), |_, x| {
+            one(x)
+        });
+        #[cfg(not(feature = "threads"))]
         xs.into_iter().enumerate().map(one).collect()
     }
 
     /// Stages 3 to 5 of one run of candidates sampled to `x`, with asynchronous readback.
+    #[cfg(not(feature = "threads"))]
     async fn decode_run(
         &self,
         generator: &Generator<'_>,
@@ -507,8 +541,14 @@ pub struct GeneratedMesh {
 impl GeneratedMesh {
     /// The candidate kept from all `opts.samples` of them, sharpened against `points`.
     fn kept(candidates: Vec<Generated>, points: &[Vec3], opts: &GenerateOptions) -> Self {
+        let keep = || keep_sharpened(candidates, points, opts);
+        // Sharpening's parallel steps shared on the pool, not handed to it one by one.
+        #[cfg(feature = "threads")]
+        let generated = crate::parallel::on_pool(keep);
+        #[cfg(not(feature = "threads"))]
+        let generated = keep();
         Self {
-            generated: keep_sharpened(candidates, points, opts),
+            generated,
             samples: opts.samples,
         }
     }
