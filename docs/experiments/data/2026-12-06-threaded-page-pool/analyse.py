@@ -1,4 +1,4 @@
-"""The table and plot of docs/experiments/2026-12-06-threaded-page-pool.md from the three
+"""The table and plot of docs/experiments/2026-12-06-threaded-page-pool.md from the four
 bench/page_ab.mjs --isolated runs in this folder: `python3 analyse.py [DIR]` writes table.txt
 and threaded_page.png into DIR (default: here)."""
 import json
@@ -13,10 +13,10 @@ import matplotlib.pyplot as plt
 
 STAGES = ["condition_s", "sample_s", "decode_s", "extract_s", "fit_s"]
 here = pathlib.Path(sys.argv[1] if len(sys.argv) > 1 else pathlib.Path(__file__).parent)
-runs = ["908c217_vs_side_by_side", "side_by_side_vs_pool", "908c217_vs_pool"]
+runs = ["908c217_vs_side_by_side", "side_by_side_vs_pool", "908c217_vs_pool", "pool_vs_talc"]
 lines = ["| run | tab | generation (median) | sample | decode | fit | stages summed | not in a stage |",
          "|---|---|---:|---:|---:|---:|---:|---:|"]
-fig, axes = plt.subplots(1, len(runs), figsize=(13, 4), sharey=True)
+fig, axes = plt.subplots(1, len(runs), figsize=(16, 4), sharey=True)
 for ax, run in zip(axes, runs):
     d = json.loads((here / f"{run}.json").read_text())
     for tab in d["tabs"]:
