@@ -43,3 +43,20 @@ def paired_rows(a, b, key):
     mean and standard error."""
     return mean_se([a[n][key] - b[n][key] for n in a
                     if n in b and a[n][key] is not None and b[n][key] is not None])
+
+
+# The surface figures an experiment's per-mesh CSV carries, in the order its tables print them.
+SURFACE_KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
+
+
+def mean_cells(rows):
+    """The means of `SURFACE_KEYS` over rows of `load_rows`, formatted as table cells."""
+    digits = {"cd": 3, "nc": 4, "ecd": 2, "ef1": 4, "faces": 1, "holes": 3}
+    return [f"{mean_of(rows, k):.{digits[k]}f}" for k in SURFACE_KEYS]
+
+
+def paired_cells(a, b):
+    """CD, NC and holes of rows `a` minus rows `b` as table cells ("mean ± s.e."), and the
+    (holes mean, holes s.e., CD mean, CD s.e.) that the experiments' plots draw."""
+    (dc, sc), (dn, sn), (dh, sh) = (paired_rows(a, b, k) for k in ("cd", "nc", "holes"))
+    return [f"{dc:+.3f} ± {sc:.3f}", f"{dn:+.4f} ± {sn:.4f}", f"{dh:+.3f} ± {sh:.3f}"], (dh, sh, dc, sc)

@@ -5,10 +5,9 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import load_rows, mean_of as mean, paired_rows as paired  # noqa: E402
+from paired import SURFACE_KEYS, load_rows, mean_cells, paired_cells  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
-KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
 ARMS = {
     "val": ["base", "cut10", "cut5", "cut3", "guard10", "guard5", "nocut10", "nocut5"],
     "hs": ["base", "cut10", "nocut10", "nocut5"],
@@ -17,23 +16,21 @@ ARMS = {
 
 
 def load(split, arm):
-    return load_rows(os.path.join(here, f"{split}_{arm}.per_mesh.csv"), KEYS)
+    return load_rows(os.path.join(here, f"{split}_{arm}.per_mesh.csv"), SURFACE_KEYS)
 
 
 points = []
 for split, arms in ARMS.items():
     base = load(split, "base")
-    print(f"\n{split}: arm | " + " | ".join(KEYS) + " | changed meshes | CD vs base | NC vs base | holes vs base")
+    print(f"\n{split}: arm | " + " | ".join(SURFACE_KEYS) + " | changed meshes | CD vs base | NC vs base | holes vs base")
     for arm in arms:
         rows = load(split, arm)
-        cells = [f"{mean(rows, 'cd'):.3f}", f"{mean(rows, 'nc'):.4f}", f"{mean(rows, 'ecd'):.2f}",
-                 f"{mean(rows, 'ef1'):.4f}", f"{mean(rows, 'faces'):.1f}", f"{mean(rows, 'holes'):.3f}"]
         changed = sum(1 for n in rows if rows[n]["faces"] != base[n]["faces"] or rows[n]["cd"] != base[n]["cd"])
-        line = f"| {arm} | " + " | ".join(cells) + f" | {changed} |"
+        line = f"| {arm} | " + " | ".join(mean_cells(rows)) + f" | {changed} |"
         if arm != "base" and split == "val":
-            (dc, sc), (dn, sn), (dh, sh) = (paired(rows, base, k) for k in ("cd", "nc", "holes"))
-            line += f" {dc:+.3f} ± {sc:.3f} | {dn:+.4f} ± {sn:.4f} | {dh:+.3f} ± {sh:.3f} |"
-            points.append((arm, dh, sh, dc, sc))
+            cells, point = paired_cells(rows, base)
+            line += " " + " | ".join(cells) + " |"
+            points.append((arm, *point))
         print(line)
 
 try:

@@ -5,16 +5,15 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import load_rows, mean_of as mean, paired_rows as paired  # noqa: E402
+from paired import SURFACE_KEYS, load_rows, mean_cells, paired_cells  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
-KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
 # Arm name and the weight each hole adds to a candidate's distance to the input.
 ARMS = [("w0.5", 0.5), ("w1", 1), ("w2", 2), ("w4", 4), ("holes_first", 1e6)]
 
 
 def load(arm):
-    return load_rows(os.path.join(here, f"val_{arm}.per_mesh.csv"), KEYS)
+    return load_rows(os.path.join(here, f"val_{arm}.per_mesh.csv"), SURFACE_KEYS)
 
 
 base = load("w0.5")
@@ -24,11 +23,9 @@ points = []
 for arm, w in ARMS:
     rows = load(arm)
     with_holes = sum(1 for r in rows.values() if r["holes"])
-    line = (f"| {arm} | {mean(rows, 'cd'):.3f} | {mean(rows, 'nc'):.4f} | {mean(rows, 'ecd'):.2f} | "
-            f"{mean(rows, 'ef1'):.4f} | {mean(rows, 'faces'):.1f} | {mean(rows, 'holes'):.3f} | {with_holes} |")
-    (dc, sc), (dn, sn), (dh, sh) = (paired(rows, base, k) for k in ("cd", "nc", "holes"))
-    line += f" {dc:+.3f} ± {sc:.3f} | {dn:+.4f} ± {sn:.4f} | {dh:+.3f} ± {sh:.3f} |"
-    points.append((arm, dh, sh, dc, sc))
+    cells, point = paired_cells(rows, base)
+    line = f"| {arm} | " + " | ".join(mean_cells(rows) + [str(with_holes)] + cells) + " |"
+    points.append((arm, *point))
     print(line)
 
 try:
