@@ -16,6 +16,8 @@ pub mod mesh;
 pub mod nearest;
 pub mod normalize;
 pub mod normals;
+/// Planar regions of a point cloud (region growing): the flat parts of a noisy scan.
+pub mod plane_regions;
 pub mod primitives;
 /// Plane quadrics and their truncated minimiser (placement and decimation).
 pub mod quadric;

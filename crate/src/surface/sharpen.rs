@@ -3,7 +3,8 @@
 //!
 //! One objective: the squared distance from the mesh to the planes of the input points
 //! (each point's plane fitted to its `plane_neighbours` nearest points, weighted by how
-//! planar that neighbourhood is, [`PointPlanes`]), with as few faces as that distance allows.
+//! planar that neighbourhood is, or where the point lies in a planar region of the input the
+//! region's one plane, [`PointPlanes`]), with as few faces as that distance allows.
 //! Five steps pursue it:
 //!
 //! 1. **Room.** Each face is split into four until the median edge is at most about three
@@ -59,6 +60,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
+use crate::geometry::plane_regions::plane_regions;
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{TopologyReport, edges};
@@ -208,6 +210,16 @@ impl std::fmt::Display for SharpenReport {
     }
 }
 
+/// Planar regions of the input ([`plane_regions`]): a point joins within this many times the
+/// input's RMS distance from its neighbourhoods' planes (its noise) of the region's plane,
+/// with its own plane at most [`REGION_ANGLE_DEG`] from the region's; a region is kept with
+/// at least [`REGION_MIN_POINTS`] points whose RMS distance from its plane is at most
+/// [`REGION_RMS`] times the noise.
+const REGION_DISTANCE: f64 = 2.5;
+const REGION_ANGLE_DEG: f64 = 25.0;
+const REGION_RMS: f64 = 1.2;
+const REGION_MIN_POINTS: usize = 36;
+
 /// The input points' planes, computed once per input and shared by its candidates.
 ///
 /// A point within a spacing or two of a crease has neighbours on both sides, and the plane
@@ -216,12 +228,23 @@ impl std::fmt::Display for SharpenReport {
 /// median one and falling with the square of its surface variation beyond twice that, and
 /// the quadrics weigh the planes by it: near a crease, the planes of the faces on either
 /// side decide, as they meet exactly on the crease line.
+///
+/// With noise, a plane fitted to a dozen neighbours tilts by a few degrees, and a large flat
+/// face, measured against hundreds of such planes, costs more than the collapse tolerance
+/// allows: a noisy box kept 88 faces. So the points of a planar region (grown over the
+/// points' neighbourhoods, [`plane_regions`]) take the region's one plane instead, through
+/// their projection onto it; a region is kept only where its points lie as near its plane as
+/// the noise says they can, so a curved surface keeps its points' own planes.
 #[derive(Clone, Debug, Default)]
 pub struct PointPlanes {
     index: PointIndex,
     /// Unit normal of each input point's plane (by the point's index), zero where its
-    /// neighbours span no plane.
+    /// neighbours span no plane: the plane of its planar region where it is in one
+    /// ([`plane_regions`]), else the plane of its neighbours.
     normals: Vec<DVec3>,
+    /// A point on each plane: the input point projected onto its region's plane, else the
+    /// point itself.
+    origins: Vec<DVec3>,
     /// Each plane's confidence in [0, 1] (see above).
     confidence: Vec<f64>,
     /// Median distance between neighbouring points.
@@ -279,8 +302,30 @@ impl PointPlanes {
                 }
             })
             .collect();
+        let mut origins: Vec<DVec3> = points.iter().map(|p| p.as_dvec3()).collect();
+        // Planar regions: a flat part's points take its one plane, which noise does not tilt.
+        let spacing = index.spacing() as f64;
+        let noise = rms_off_plane.max(0.01 * spacing);
+        let (regions, of_point) = plane_regions(
+            &index,
+            &normals,
+            &variation,
+            k.max(3),
+            REGION_DISTANCE * noise,
+            REGION_ANGLE_DEG,
+            REGION_RMS * noise,
+            REGION_MIN_POINTS,
+        );
+        for (i, region) in of_point.iter().enumerate() {
+            if let Some(r) = region.map(|r| regions[r as usize]) {
+                normals[i] = r.normal;
+                let off = r.normal.dot(origins[i] - r.origin);
+                origins[i] -= r.normal * off;
+            }
+        }
         PointPlanes {
-            spacing: index.spacing() as f64,
+            origins,
+            spacing,
             index,
             normals,
             confidence,
@@ -324,10 +369,10 @@ impl PointPlanes {
     /// its 4 nearest points, the nearest among equals.
     fn nearest_plane(&self, x: DVec3) -> Option<(DVec3, DVec3)> {
         let mut best: Option<(f64, DVec3, DVec3)> = None;
-        for (i, p) in self.index.k_nearest(x.as_vec3(), 4) {
+        for (i, _) in self.index.k_nearest(x.as_vec3(), 4) {
             let c = self.confidence[i as usize];
             if best.is_none_or(|(b, _, _)| c > b + 1e-9) {
-                best = Some((c, p.as_dvec3(), self.normals[i as usize]));
+                best = Some((c, self.origins[i as usize], self.normals[i as usize]));
             }
         }
         best.map(|(_, p, n)| (p, n))
@@ -342,7 +387,7 @@ impl PointPlanes {
             let (i, p) = (i as usize, p.as_dvec3());
             reach = reach.max(p.distance(x));
             if self.normals[i] != DVec3::ZERO && self.confidence[i] > 0.0 {
-                q += Quadric::plane(self.normals[i], p, self.confidence[i]);
+                q += Quadric::plane(self.normals[i], self.origins[i], self.confidence[i]);
             }
         }
         (q, reach)
@@ -364,7 +409,7 @@ impl PointPlanes {
             let d = if self.normals[i] == DVec3::ZERO {
                 p.distance(x)
             } else {
-                self.normals[i].dot(x - p).abs()
+                self.normals[i].dot(x - self.origins[i]).abs()
             };
             any = any.min(d);
             if self.confidence[i] >= 0.5 {
@@ -382,10 +427,10 @@ impl PointPlanes {
 
     /// Each point's plane, weighted by its confidence, for the points that have one.
     fn weighted_planes(&self) -> impl Iterator<Item = (DVec3, DVec3, f64)> + '_ {
-        self.index.iter().filter_map(|(i, p)| {
+        self.index.iter().filter_map(|(i, _)| {
             let i = i as usize;
             (self.normals[i] != DVec3::ZERO)
-                .then(|| (p.as_dvec3(), self.normals[i], self.confidence[i]))
+                .then(|| (self.origins[i], self.normals[i], self.confidence[i]))
         })
     }
 }
