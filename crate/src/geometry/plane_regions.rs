@@ -7,7 +7,8 @@
 //! does not tilt: its error falls with the square root of the region's points.
 //!
 //! Written here: point-cloud plane segmentation lives in C++ libraries (PCL, Open3D), and
-//! growing over the crate's own k-d tree ([`PointIndex`]) takes a hundred lines.
+//! growing over the crate's own k-d tree ([`PointIndex`](crate::geometry::nearest::PointIndex))
+//! takes a hundred lines.
 
 use glam::DVec3;
 
