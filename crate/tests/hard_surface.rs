@@ -66,11 +66,12 @@ fn the_fixture_files_are_the_primitives() {
     }
 }
 
-/// The clean input points of each of `shapes` (the fixture files).
-fn clean_inputs(shapes: &[(&str, Mesh)]) -> Vec<Vec<glam::Vec3>> {
+/// The input points of each of `shapes` (the fixture files `points/{name}{suffix}.ply`:
+/// suffix "" for the clean ones, "_noise1" for those with 1% noise).
+fn inputs(shapes: &[(&str, Mesh)], suffix: &str) -> Vec<Vec<glam::Vec3>> {
     (shapes.iter())
         .map(|(name, _)| {
-            let path = dir().join(format!("points/{name}.ply"));
+            let path = dir().join(format!("points/{name}{suffix}.ply"));
             read_path(&path, &Limits::default()).unwrap().positions
         })
         .collect()
@@ -83,7 +84,7 @@ fn sharpening_makes_the_hard_surface_set_flatter_and_sharper() {
     let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let shapes = hard_surface_set();
-    let inputs = clean_inputs(&shapes);
+    let inputs = inputs(&shapes, "");
     let score = |opts: &GenerateOptions| {
         let out = generator.generate(&inputs, opts, &mut |_, _| true).unwrap();
         let (mut nc, mut ef1) = (0.0, 0.0);
@@ -111,12 +112,7 @@ fn noisy_flat_faces_come_back_as_few_flat_faces() {
     let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let shapes = hard_surface_set();
-    let inputs: Vec<Vec<glam::Vec3>> = (shapes.iter())
-        .map(|(name, _)| {
-            let path = dir().join(format!("points/{name}_noise1.ply"));
-            read_path(&path, &Limits::default()).unwrap().positions
-        })
-        .collect();
+    let inputs = inputs(&shapes, "_noise1");
     let out = generator
         .generate(&inputs, &GenerateOptions::default(), &mut |_, _| true)
         .unwrap();
@@ -141,7 +137,7 @@ fn reach_brings_the_hard_surface_set_nearer_its_ground_truth() {
     let (models, device) = common::shipped_on_cpu();
     let generator = models.generator(&device);
     let shapes = hard_surface_set();
-    let inputs = clean_inputs(&shapes);
+    let inputs = inputs(&shapes, "");
     let chamfer = |reach_steps: usize| {
         let mut opts = GenerateOptions::default();
         opts.sharpen.reach_steps = reach_steps;
