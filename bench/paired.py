@@ -1,6 +1,8 @@
 """Paired per-mesh differences between two `meshflow eval generate` runs on the same meshes,
 samples and seeds (the pairing removes the meshes' own spread): shared by the experiment
-log's analysis scripts (docs/experiments/data/*/analyse.py), which import it from here."""
+log's analysis scripts (docs/experiments/data/*/analyse.py), which import it from here.
+    python3 bench/paired.py RUN.json > RUN.per_mesh.csv
+writes a run's per-mesh CSV, the file those scripts read."""
 import csv
 import math
 
@@ -60,3 +62,28 @@ def paired_cells(a, b):
     (holes mean, holes s.e., CD mean, CD s.e.) that the experiments' plots draw."""
     (dc, sc), (dn, sn), (dh, sh) = (paired_rows(a, b, k) for k in ("cd", "nc", "holes"))
     return [f"{dc:+.3f} ± {sc:.3f}", f"{dn:+.4f} ± {sn:.4f}", f"{dh:+.3f} ± {sh:.3f}"], (dh, sh, dc, sc)
+
+
+def write_rows(run_path, out):
+    """The per-mesh figures of the `meshflow eval generate` JSON at `run_path` as the CSV that
+    `load_rows` reads (`name`, then `SURFACE_KEYS`; empty where a mesh got no faces), to the
+    text stream `out`."""
+    import json
+
+    writer = csv.writer(out)
+    writer.writerow(["name"] + SURFACE_KEYS)
+    for m in json.load(open(run_path))["per_mesh"]:
+        o = m["ours"]
+        if not o:
+            writer.writerow([m["name"]] + [""] * len(SURFACE_KEYS))
+            continue
+        writer.writerow([m["name"], o["chamfer_x100"], o["normal_consistency"],
+                         o["sharp"]["edge_chamfer_x100"], per_mesh(o, "edge_f_score"),
+                         m["faces_made"], o["pred_topology"]["holes"]])
+
+
+if __name__ == "__main__":
+    # python3 bench/paired.py RUN.json > RUN.per_mesh.csv
+    import sys
+
+    write_rows(sys.argv[1], sys.stdout)
