@@ -51,10 +51,19 @@ def paired_rows(a, b, key):
 SURFACE_KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
 
 
+# The decimals a table gives each of them.
+DIGITS = {"cd": 3, "nc": 4, "ecd": 2, "ef1": 4, "faces": 1, "holes": 3}
+
+
 def mean_cells(rows):
     """The means of `SURFACE_KEYS` over rows of `load_rows`, formatted as table cells."""
-    digits = {"cd": 3, "nc": 4, "ecd": 2, "ef1": 4, "faces": 1, "holes": 3}
-    return [f"{mean_of(rows, k):.{digits[k]}f}" for k in SURFACE_KEYS]
+    return [f"{mean_of(rows, k):.{DIGITS[k]}f}" for k in SURFACE_KEYS]
+
+
+def diff_cells(a, b, keys):
+    """`keys` of rows `a` minus rows `b` (both from `load_rows`), per mesh, as table cells
+    ("mean ± s.e." with each key's `DIGITS`)."""
+    return [f"{m:+.{DIGITS[k]}f} ± {se:.{DIGITS[k]}f}" for k in keys for m, se in [paired_rows(a, b, k)]]
 
 
 def paired_cells(a, b):

@@ -14,7 +14,7 @@ use meshflow::eval::metrics::{CompareOptions, compare_meshes};
 use meshflow::geometry::hard_surface::hard_surface_set;
 use meshflow::geometry::sample::sample_surface;
 use meshflow::io::{Limits, read_path, write_path};
-use meshflow::pipeline::generate::GenerateOptions;
+use meshflow::pipeline::generate::{GenerateOptions, input_points};
 
 fn dir() -> PathBuf {
     PathBuf::from(concat!(
@@ -105,6 +105,27 @@ fn sharpening_makes_the_hard_surface_set_flatter_and_sharper() {
     assert!(sharp.1 > plain.1 + 0.05, "EF1 {sharp:?} vs {plain:?}");
 }
 
+/// The clean box's file as a user runs it (`meshflow generate
+/// tests/fixtures/hard_surface/points/box.ply`, the defaults, seed 0) comes back as its ground
+/// truth: 8 vertices and 12 faces.
+#[test]
+fn the_clean_box_file_comes_back_as_eight_corners_and_twelve_faces() {
+    let (models, device) = common::shipped_on_cpu();
+    let generator = models.generator(&device);
+    let read = read_path(&dir().join("points/box.ply"), &Limits::default()).unwrap();
+    let points = input_points(&read, 0).unwrap();
+    let out = generator
+        .generate(&[points], &GenerateOptions::default(), &mut |_, _| true)
+        .unwrap();
+    let mesh = &out[0].mesh;
+    // 17 vertices and 30 faces before a vertex near two planar regions went onto their crease
+    // line (2026-12-06): a seam of sliver faces along one edge.
+    assert_eq!((mesh.positions.len(), mesh.faces.len()), (8, 12));
+    let truth = &hard_surface_set()[0].1;
+    let c = compare_meshes(mesh, truth, &CompareOptions::default()).unwrap();
+    assert!(c.sharp.edge_f_score.f_score > 0.95, "{:?}", c.sharp);
+}
+
 /// Mean edge F-score and faces per ground-truth face of generation at the defaults over the
 /// hard-surface inputs with 1% noise (the fixture files).
 #[test]
@@ -126,8 +147,9 @@ fn noisy_flat_faces_come_back_as_few_flat_faces() {
     }
     // Measured (2026-12-06): EF1 0.22 and 6.9x the faces with each point's own plane, which
     // the noise tilts (a flat side came back as a dozen faces, creased between them); 0.33
-    // and 5.3x with the planes of the input's planar regions.
-    assert!(ef1 > 0.3 && faces < 6.0, "EF1 {ef1}, {faces}x the faces");
+    // and 5.3x with the planes of the input's planar regions; 0.39 and 5.5x with a vertex near
+    // two or three regions placed where they meet.
+    assert!(ef1 > 0.36 && faces < 6.0, "EF1 {ef1}, {faces}x the faces");
 }
 
 #[test]

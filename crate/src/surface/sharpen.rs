@@ -17,7 +17,10 @@
 //!    `neighbours` nearest points, with eigenvalues below `rank_cutoff` of the largest
 //!    truncated ([`Quadric::minimiser_near`], as dual contouring does): on a flat region the
 //!    vertex moves across the plane only; next to a crease it snaps onto the crease line,
-//!    next to a corner onto the corner. A move that would flip or fold a face is shortened.
+//!    next to a corner onto the corner. Where the input's planar regions meet within a
+//!    spacing of the vertex, their own planes place it instead, on their crease line or
+//!    corner (`PointPlanes::region_meet`): a vertex most of whose nearest points lie on
+//!    one face would stay on that face. A move that would flip or fold a face is shortened.
 //!    Then **reach**: the input points more than two spacings from the mesh pull the faces
 //!    nearest them, along the surface only (`reach_steps` steps), so that an edge of the
 //!    model's mesh that stops short of the input (a wedge's thin end) slides out to it.
@@ -35,7 +38,8 @@
 //!    Delaunay flips between coplanar faces undo the slivers that greedy collapses leave, and
 //!    the collapses go on.
 //! 4. **Snap.** Each vertex goes to the truncated minimiser of all the planes it gathered, so
-//!    that one whose region straddles a crease lands on it.
+//!    that one whose region straddles a crease lands on it (or, as in placement, to where the
+//!    planar regions near it meet).
 //! 5. **Crease-aligned flips.** An edge whose two faces' probes (the edge's midpoint and the
 //!    face centroids) lie clearly farther from the input planes than the other diagonal's
 //!    would is flipped: an edge across a crease becomes one along it.
@@ -60,7 +64,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
-use crate::geometry::plane_regions::plane_regions;
+use crate::geometry::plane_regions::{PlaneRegion, plane_regions};
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{TopologyReport, edges};
@@ -137,8 +141,8 @@ pub struct SharpenReport {
     /// Faces after the 1-to-4 splits, and how many splits.
     pub refined_faces: usize,
     pub refinements: usize,
-    /// Vertices of the last round snapped onto a crease line (quadric rank 2) or a corner
-    /// (rank 3).
+    /// Vertices of the last round snapped onto a crease line (quadric rank 2, or two planar
+    /// regions meeting) or a corner (rank 3, or three).
     pub crease_vertices: usize,
     pub corner_vertices: usize,
     /// Edges flipped to follow a crease, and edge collapses, over all rounds.
@@ -220,6 +224,13 @@ const REGION_ANGLE_DEG: f64 = 25.0;
 const REGION_RMS: f64 = 1.2;
 const REGION_MIN_POINTS: usize = 36;
 
+/// Where planar regions meet ([`PointPlanes::region_meet`]): the regions of this many points
+/// nearest a vertex (twice a point's plane neighbours, as a region stops a spacing or two
+/// short of a crease; 24 against 10 to 48 in docs/experiments/2026-12-06-region-meet.md)...
+const MEET_NEIGHBOURS: usize = 24;
+/// ...whose planes pass within this many point spacings of it.
+const MEET_SPACINGS: f64 = 1.0;
+
 /// The input points' planes, computed once per input and shared by its candidates.
 ///
 /// A point within a spacing or two of a crease has neighbours on both sides, and the plane
@@ -254,6 +265,9 @@ pub struct PointPlanes {
     /// Median RMS distance of a neighbourhood from its plane (the input's noise, and
     /// curvature).
     rms_off_plane: f64,
+    /// The input's planar regions, and the region of each point (by index) that is in one.
+    regions: Vec<PlaneRegion>,
+    region_of: Vec<Option<u32>>,
 }
 
 impl PointPlanes {
@@ -324,6 +338,8 @@ impl PointPlanes {
             }
         }
         PointPlanes {
+            regions,
+            region_of: of_point,
             origins,
             spacing,
             index,
@@ -391,6 +407,42 @@ impl PointPlanes {
             }
         }
         (q, reach)
+    }
+
+    /// Where the input's planar regions meet near `x`: the point nearest `x` on the crease
+    /// line of two regions, or the corner of three, with its rank (2 or 3). The regions are
+    /// those of the [`MEET_NEIGHBOURS`] points nearest `x` whose planes pass within
+    /// [`MEET_SPACINGS`] point spacings of it; planes whose quadric has a rank below 2 at
+    /// `rank_cutoff` (under about 30 degrees apart at 0.08) do not meet. `None` where fewer
+    /// than two regions meet there, or where their meeting is farther than two of those
+    /// distances.
+    ///
+    /// Why the regions' planes and not the points': the quadric of a vertex's nearest points
+    /// weighs each face by how many of its points are near, so a vertex within a spacing of a
+    /// crease, most of whose points lie on one face, stays on that face; the clean box kept a
+    /// crumpled seam of sliver faces along one edge that way (30 faces for its 12).
+    fn region_meet(&self, x: DVec3, rank_cutoff: f64) -> Option<(DVec3, usize)> {
+        let within = MEET_SPACINGS * self.spacing;
+        let mut near: Vec<u32> = Vec::new();
+        for (i, _) in self.index.k_nearest(x.as_vec3(), MEET_NEIGHBOURS) {
+            if let Some(r) = self.region_of[i as usize]
+                && !near.contains(&r)
+            {
+                near.push(r);
+            }
+        }
+        let mut q = Quadric::default();
+        for r in near.iter().map(|&r| self.regions[r as usize]) {
+            if r.normal.dot(x - r.origin).abs() <= within {
+                q += Quadric::plane(r.normal, r.origin, 1.0);
+            }
+        }
+        let rank = q.rank(rank_cutoff);
+        if rank < 2 {
+            return None;
+        }
+        let y = q.minimiser_near(x, rank_cutoff);
+        (y.distance(x) <= 2.0 * within).then_some((y, rank))
     }
 
     /// `x` projected onto the plane of [`Self::nearest_plane`] (`x` where there is none).
@@ -506,6 +558,9 @@ pub fn sharpen_judged(
             if !live {
                 return from;
             }
+            if let Some((x, _)) = planes.region_meet(from, opts.rank_cutoff) {
+                return x;
+            }
             let (q, reach) = planes.quadric_near(from, opts.neighbours);
             let x = q.minimiser_near(from, opts.rank_cutoff);
             if x.distance(from) <= reach {
@@ -542,18 +597,27 @@ pub fn sharpen_judged(
                 continue;
             }
             let q = quadrics[v];
-            match q.rank(opts.rank_cutoff) {
+            let (x, meet) = planes
+                .region_meet(before[v], opts.rank_cutoff)
+                .unwrap_or_else(|| {
+                    let x = q.minimiser_near(before[v], opts.rank_cutoff);
+                    // A far jump means an ill-conditioned system: keep the plane part only.
+                    let far = x.distance(before[v]) > 4.0 * planes.spacing;
+                    (
+                        if far {
+                            q.minimiser_near(before[v], 0.5)
+                        } else {
+                            x
+                        },
+                        0,
+                    )
+                });
+            match q.rank(opts.rank_cutoff).max(meet) {
                 2 => crease += 1,
                 3 => corner += 1,
                 _ => {}
             }
-            let x = q.minimiser_near(before[v], opts.rank_cutoff);
-            // A far jump means an ill-conditioned system: keep the plane part only.
-            m.positions[v] = if x.distance(before[v]) > 4.0 * planes.spacing {
-                q.minimiser_near(before[v], 0.5)
-            } else {
-                x
-            };
+            m.positions[v] = x;
         }
         hold_back(&mut m, &before);
 
@@ -1351,6 +1415,62 @@ mod tests {
         // Every point is on the surface it was assigned to.
         let worst = coverage.start.iter().copied().fold(0.0, f64::max);
         assert!(worst < 1e-5, "{worst}");
+    }
+
+    #[test]
+    fn the_planar_regions_of_a_box_meet_on_its_edges_and_corners() {
+        let (half, _, _, planes) = box_and_planes();
+        let (h, s) = (half.as_dvec3(), planes.spacing);
+        let cutoff = SharpenOptions::default().rank_cutoff;
+        // Within a spacing of an edge: onto the edge line, the nearest point of it.
+        let (x, rank) = planes
+            .region_meet(DVec3::new(0.1, h.y - 0.6 * s, h.z - 0.3 * s), cutoff)
+            .unwrap();
+        assert_eq!(rank, 2);
+        assert!(x.distance(DVec3::new(0.1, h.y, h.z)) < 1e-4, "{x}");
+        // Within a spacing of a corner: onto the corner where the three faces' regions are
+        // among the nearest points, else onto one of its edges (a region stops a spacing or
+        // two short of a crease, where the points' own planes tilt across it).
+        let mut corners = 0;
+        for sign in (0..8).map(|c| {
+            DVec3::new(
+                if c & 1 == 0 { -1.0 } else { 1.0 },
+                if c & 2 == 0 { -1.0 } else { 1.0 },
+                if c & 4 == 0 { -1.0 } else { 1.0 },
+            )
+        }) {
+            let corner = sign * h;
+            let (x, rank) = planes.region_meet(corner - sign * 0.5 * s, cutoff).unwrap();
+            if rank == 3 {
+                assert!(x.distance(corner) < 1e-4, "{x} {corner}");
+                corners += 1;
+            } else {
+                // On an edge through the corner: two of its coordinates are the corner's.
+                let on = (x - corner)
+                    .abs()
+                    .to_array()
+                    .iter()
+                    .filter(|d| **d < 1e-4)
+                    .count();
+                assert!(rank == 2 && on >= 2, "{x} {corner} {rank}");
+            }
+        }
+        assert!(corners >= 6, "{corners} of 8 corners");
+        // On a face, or two spacings from its edge: no crease there.
+        assert_eq!(planes.region_meet(DVec3::new(0.1, 0.0, h.z), cutoff), None);
+        assert_eq!(
+            planes.region_meet(DVec3::new(0.1, h.y - 2.0 * s, h.z), cutoff),
+            None
+        );
+        // A sphere has no planar regions to meet.
+        let sphere = sample_surface(&icosphere(4), 4096, 1).unwrap().points;
+        let round = PointPlanes::new(&sphere, SharpenOptions::default().plane_neighbours);
+        assert!(
+            sphere
+                .iter()
+                .step_by(97)
+                .all(|p| round.region_meet(p.as_dvec3(), cutoff).is_none())
+        );
     }
 
     #[test]
