@@ -66,6 +66,13 @@ def diff_cells(a, b, keys):
     return [f"{m:+.{DIGITS[k]}f} ± {se:.{DIGITS[k]}f}" for k in keys for m, se in [paired_rows(a, b, k)]]
 
 
+def arm_row(arm, rows, base, keys):
+    """A table line for `arm`: the means of `SURFACE_KEYS` over its `rows` (`mean_cells`), then
+    `keys` of `rows` minus `base` (`diff_cells`), empty where `base` is None (the base arm)."""
+    diffs = [""] * len(keys) if base is None else diff_cells(rows, base, keys)
+    return f"| {arm} | " + " | ".join(mean_cells(rows) + diffs) + " |"
+
+
 def paired_cells(a, b):
     """CD, NC and holes of rows `a` minus rows `b` as table cells ("mean ± s.e."), and the
     (holes mean, holes s.e., CD mean, CD s.e.) that the experiments' plots draw."""

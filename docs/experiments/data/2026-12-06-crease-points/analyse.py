@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, load_rows, mean_cells, paired_rows  # noqa: E402
+from paired import SURFACE_KEYS, arm_row, load_rows, paired_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # base: 5fa9777's behaviour; ab1: one ring of joining, own confidence; ab2c5: two rings, and
@@ -47,13 +47,9 @@ for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
         if not os.path.exists(path):
             continue
         r = load_rows(path, SURFACE_KEYS)
-        diffs = ["", "", "", ""]
         if arm != "base":
-            d = {k: paired_rows(r, base, k) for k in ["cd", "nc", "ef1", "faces"]}
-            diffs = [f"{d['cd'][0]:+.3f} ± {d['cd'][1]:.3f}", f"{d['nc'][0]:+.4f} ± {d['nc'][1]:.4f}",
-                     f"{d['ef1'][0]:+.4f} ± {d['ef1'][1]:.4f}", f"{d['faces'][0]:+.1f} ± {d['faces'][1]:.1f}"]
-            points[(label, arm)] = (d["nc"], d["ef1"])
-        print(f"| {arm} | " + " | ".join(mean_cells(r) + diffs) + " |")
+            points[(label, arm)] = (paired_rows(r, base, "nc"), paired_rows(r, base, "ef1"))
+        print(arm_row(arm, r, None if arm == "base" else base, ["cd", "nc", "ef1", "faces"]))
 
 try:
     import matplotlib

@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, diff_cells, load_rows, mean_cells  # noqa: E402
+from paired import SURFACE_KEYS, arm_row, load_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 base_dir = os.path.join(here, "../2026-12-06-crease-points")
@@ -69,8 +69,7 @@ for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
     print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for arm in VAL_ARMS:
         r = base if arm == "base" else load_rows(os.path.join(here, f"{prefix}_{arm}.per_mesh.csv"), SURFACE_KEYS)
-        diffs = [""] * 5 if arm == "base" else diff_cells(r, base, ["cd", "nc", "ef1", "faces", "holes"])
-        print(f"| {arm} | " + " | ".join(mean_cells(r) + diffs) + " |")
+        print(arm_row(arm, r, None if arm == "base" else base, ["cd", "nc", "ef1", "faces", "holes"]))
 
 try:
     import matplotlib
