@@ -2,7 +2,8 @@
 """Summary of bench/sharpen_eval/run_test.sh's output folder: means of CD, NC, ECD, EF1,
 faces and topology for today's pipeline (--no-sharpen), the sharpened one, Poisson + QEM at
 the sharpened face counts and the VAE bound, over the meshes every arm has, and over the
-subset whose ground truth is closed.
+subset whose ground truth is closed; and the ground truth's own holes, which artists' meshes
+have (open parts), beside the arms' figure.
 
 Usage: python3 bench/sharpen_eval/summarize.py OUT
 """
@@ -17,7 +18,8 @@ def row(c):
                 faces=c["pred_topology"]["faces"], gtf=c["gt_topology"]["faces"],
                 nm=c["pred_topology"]["non_manifold_edges"],
                 iw=c["pred_topology"]["inconsistent_winding_edges"],
-                holes=c["pred_topology"]["holes"], closed=c["gt_topology"]["boundary_edges"] == 0)
+                holes=c["pred_topology"]["holes"], gt_holes=c["gt_topology"]["holes"],
+                closed=c["gt_topology"]["boundary_edges"] == 0)
 
 
 def mean(rows, key):
@@ -52,6 +54,7 @@ def main(out):
             print(f"  {arm:12s} CD {mean(rs, 'cd'):.3f} NC {mean(rs, 'nc'):.4f} ECD {mean(rs, 'ecd'):.3f} "
                   f"EF1 {mean(rs, 'ef1'):.4f} faces {mean(rs, 'faces'):.1f} ratio {ratio:.2f} "
                   f"nm {mean(rs, 'nm'):.2f} iw {mean(rs, 'iw'):.2f} holes {mean(rs, 'holes'):.2f}")
+        print(f"  {'ground truth':12s} holes {mean([arms['sharpened'][i] for i in idx], 'gt_holes'):.2f}")
     print("mean times, sharpened", sharpened["mean_times"])
     if today:
         print("mean times, today", today["mean_times"])
