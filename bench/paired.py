@@ -80,6 +80,18 @@ def paired_cells(a, b):
     return [f"{dc:+.3f} ± {sc:.3f}", f"{dn:+.4f} ± {sn:.4f}", f"{dh:+.3f} ± {sh:.3f}"], (dh, sh, dc, sc)
 
 
+def finish_paired_plot(fig, ax, xlabel, ylabel, title, path, dpi=110):
+    """The frame every experiment's plot of paired changes shares (zero lines through both
+    axes, labels, title), then the figure written to `path`."""
+    ax.axhline(0, color="grey", lw=0.5)
+    ax.axvline(0, color="grey", lw=0.5)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=dpi)
+
+
 def write_rows(run_path, out):
     """The per-mesh figures of the `meshflow eval generate` JSON at `run_path` as the CSV that
     `load_rows` reads (`name`, then `SURFACE_KEYS`; empty where a mesh got no faces), to the

@@ -5,7 +5,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, load_rows, mean_cells, paired_cells  # noqa: E402
+from paired import SURFACE_KEYS, finish_paired_plot, load_rows, mean_cells, paired_cells  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 ARMS = {
@@ -44,10 +44,6 @@ for i, (arm, dh, sh, dc, sc) in enumerate(points):
     ax.errorbar(dh, dc, xerr=sh, yerr=sc, fmt="o", capsize=3)
     # Staggered labels: the arms near zero CD lie close together.
     ax.annotate(arm, (dh, dc), textcoords="offset points", xytext=(4, 6 + 12 * (i % 3)), fontsize=8)
-ax.axhline(0, color="grey", lw=0.5)
-ax.axvline(0, color="grey", lw=0.5)
-ax.set_xlabel("holes a mesh, paired change from 79d5737 (mean ± s.e.)")
-ax.set_ylabel("CD x100, paired change (mean ± s.e.)")
-ax.set_title("Validation split, 226 meshes: closing after sharpening")
-fig.tight_layout()
-fig.savefig(os.path.join(here, "close_after.png"), dpi=110)
+finish_paired_plot(fig, ax, "holes a mesh, paired change from 79d5737 (mean ± s.e.)",
+                   "CD x100, paired change (mean ± s.e.)",
+                   "Validation split, 226 meshes: closing after sharpening", os.path.join(here, "close_after.png"))

@@ -5,7 +5,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, load_rows, mean_cells, paired_cells  # noqa: E402
+from paired import SURFACE_KEYS, finish_paired_plot, load_rows, mean_cells, paired_cells  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # Arm name and the weight each hole adds to a candidate's distance to the input.
@@ -39,10 +39,7 @@ ax.errorbar([p[1] for p in points], [p[3] for p in points], xerr=[p[2] for p in 
             yerr=[p[4] for p in points], fmt="o-", capsize=3)
 for arm, dh, _, dc, _ in points:
     ax.annotate(arm, (dh, dc), textcoords="offset points", xytext=(5, 5), fontsize=8)
-ax.axhline(0, color="grey", lw=0.5)
-ax.axvline(0, color="grey", lw=0.5)
-ax.set_xlabel("holes a mesh, paired change from the shipped weight 0.5 (mean ± s.e.)")
-ax.set_ylabel("CD x100, paired change (mean ± s.e.)")
-ax.set_title("Validation split, 226 meshes: the hole weight of the candidate choice")
-fig.tight_layout()
-fig.savefig(os.path.join(here, "hole_weight.png"), dpi=110)
+finish_paired_plot(fig, ax, "holes a mesh, paired change from the shipped weight 0.5 (mean ± s.e.)",
+                   "CD x100, paired change (mean ± s.e.)",
+                   "Validation split, 226 meshes: the hole weight of the candidate choice",
+                   os.path.join(here, "hole_weight.png"))

@@ -6,7 +6,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, load_rows, mean_cells, paired_cells, paired_rows  # noqa: E402
+from paired import SURFACE_KEYS, finish_paired_plot, load_rows, mean_cells, paired_cells, paired_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # Validation arms: each point's own plane (6c777f0), regions kept at RMS <= 1.5 or 1.2 times
@@ -77,10 +77,7 @@ for label, marker in [("clean", "o"), ("1% noise", "s")]:
         ax.errorbar(dn, de, xerr=sn, yerr=se, fmt=marker, capsize=3)
         ax.annotate(f"{arm}, {label}", (dn, de), textcoords="offset points", xytext=(5, 5),
                     fontsize=7)
-ax.axhline(0, color="grey", lw=0.5)
-ax.axvline(0, color="grey", lw=0.5)
-ax.set_xlabel("NC, paired change from each point's own plane (mean ± s.e.)")
-ax.set_ylabel("EF1, paired change (mean ± s.e.)")
-ax.set_title("Validation split, 226 meshes: planar regions for sharpening's planes")
-fig.tight_layout()
-fig.savefig(os.path.join(here, "plane_regions.png"), dpi=110)
+finish_paired_plot(fig, ax, "NC, paired change from each point's own plane (mean ± s.e.)",
+                   "EF1, paired change (mean ± s.e.)",
+                   "Validation split, 226 meshes: planar regions for sharpening's planes",
+                   os.path.join(here, "plane_regions.png"))

@@ -9,7 +9,7 @@ import re
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, arm_row, load_rows, paired_rows  # noqa: E402
+from paired import SURFACE_KEYS, arm_row, finish_paired_plot, load_rows, paired_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # base: 254c467. local: the triangulation tried again with each face facing the rim faces at
@@ -75,10 +75,6 @@ for i, (arm, (dh, sh), (dc, sc)) in enumerate(points):
     ax.annotate(arm, (dh, dc), textcoords="offset points", xytext=(5, 6 - 9 * (i % 4)), fontsize=8)
 # Unguarded trimming costs 30-100x what the guarded arms do: a linear axis near zero, log beyond.
 ax.set_yscale("symlog", linthresh=0.1)
-ax.axhline(0, color="grey", lw=0.5)
-ax.axvline(0, color="grey", lw=0.5)
-ax.set_xlabel("holes a mesh, paired difference from 254c467")
-ax.set_ylabel("CD x100, paired difference")
-ax.set_title("Trimming crumpled rims before closing: fewer holes cost distance")
-fig.tight_layout()
-fig.savefig(os.path.join(here, "trim_and_close.png"), dpi=100)
+finish_paired_plot(fig, ax, "holes a mesh, paired difference from 254c467", "CD x100, paired difference",
+                   "Trimming crumpled rims before closing: fewer holes cost distance",
+                   os.path.join(here, "trim_and_close.png"), dpi=100)
