@@ -92,6 +92,39 @@ def finish_paired_plot(fig, ax, xlabel, ylabel, title, path, dpi=110):
     fig.savefig(path, dpi=dpi)
 
 
+def hard_surface_table(rows, arms, seeds=("0", "2", "3")):
+    """Prints the Markdown table of the hard-surface set's means over its shapes, per input
+    (clean, 1% noise), arm and seed, then the seeds' mean in bold (CD, NC, ECD, EF1, faces as a
+    multiple of the ground truth's), from `rows` of an experiment's `hard_surface.csv` (arm,
+    input, seed, shape, cd, nc, ecd, ef1, faces, gt_faces). Returns each (arm, input)'s EF1 per
+    seed, which the plots draw."""
+
+    def seed_means(arm, inp, key):
+        out = []
+        for s in seeds:
+            rs = [r for r in rows if r["arm"] == arm and r["input"] == inp and r["seed"] == s]
+            v = [float(r[key]) / (float(r["gt_faces"]) if key == "faces" else 1.0) for r in rs]
+            out.append(sum(v) / len(v))
+        return out
+
+    print(f"Hard-surface set, means over its 8 shapes (seed {' / '.join(seeds)}, then their mean)")
+    print("| input | arm | CD x100 | NC | ECD x100 | EF1 | faces / gt |")
+    print("|---|---|---|---|---|---|---|")
+    ef1 = {}
+    for inp, label in [("clean", "clean"), ("noise1", "1% noise")]:
+        for arm in arms:
+            cells = []
+            for key in ["cd", "nc", "ecd", "ef1", "faces"]:
+                per_seed = seed_means(arm, inp, key)
+                mean = sum(per_seed) / len(per_seed)
+                if key == "ef1":
+                    ef1[(arm, inp)] = per_seed
+                fmt = "{:.2f}x" if key == "faces" else "{:.3f}"
+                cells.append(" / ".join(fmt.format(v) for v in per_seed) + " (**" + fmt.format(mean) + "**)")
+            print(f"| {label} | {arm} | " + " | ".join(cells) + " |")
+    return ef1
+
+
 def write_rows(run_path, out):
     """The per-mesh figures of the `meshflow eval generate` JSON at `run_path` as the CSV that
     `load_rows` reads (`name`, then `SURFACE_KEYS`; empty where a mesh got no faces), to the

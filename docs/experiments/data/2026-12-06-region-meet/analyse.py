@@ -7,7 +7,7 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import SURFACE_KEYS, arm_row, load_rows  # noqa: E402
+from paired import SURFACE_KEYS, arm_row, hard_surface_table, load_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 base_dir = os.path.join(here, "../2026-12-06-crease-points")
@@ -17,36 +17,8 @@ base_dir = os.path.join(here, "../2026-12-06-crease-points")
 HS_ARMS = ["base", "meet", "meetw5", "meetk24", "meetpl", "meetplk16", "meetplk24", "meetplk24w2",
            "meetplk36", "meetplk48"]
 VAL_ARMS = ["base", "meet", "meetplk24"]
-SEEDS = ("0", "2", "3")
-
 rows = list(csv.DictReader(open(os.path.join(here, "hard_surface.csv"))))
-
-
-def seed_means(arm, inp, key):
-    """The mean over the 8 shapes of `key` (faces as a multiple of the ground truth's), per seed."""
-    out = []
-    for s in SEEDS:
-        rs = [r for r in rows if r["arm"] == arm and r["input"] == inp and r["seed"] == s]
-        v = [float(r[key]) / (float(r["gt_faces"]) if key == "faces" else 1.0) for r in rs]
-        out.append(sum(v) / len(v))
-    return out
-
-
-print("Hard-surface set, means over its 8 shapes (seed 0 / 2 / 3, then their mean)")
-print("| input | arm | CD x100 | NC | ECD x100 | EF1 | faces / gt |")
-print("|---|---|---|---|---|---|---|")
-ef1 = {}
-for inp, label in [("clean", "clean"), ("noise1", "1% noise")]:
-    for arm in HS_ARMS:
-        cells = []
-        for key in ["cd", "nc", "ecd", "ef1", "faces"]:
-            per_seed = seed_means(arm, inp, key)
-            mean = sum(per_seed) / len(per_seed)
-            if key == "ef1":
-                ef1[(arm, inp)] = per_seed
-            fmt = "{:.2f}x" if key == "faces" else "{:.3f}"
-            cells.append(" / ".join(fmt.format(v) for v in per_seed) + " (**" + fmt.format(mean) + "**)")
-        print(f"| {label} | {arm} | " + " | ".join(cells) + " |")
+ef1 = hard_surface_table(rows, HS_ARMS)
 
 print("\nPer shape, base -> meetplk24: EF1 (mean of the 3 seeds) and faces (seed 0, 2, 3)")
 print("| shape | input | EF1 base | EF1 meetplk24 | faces base | faces meetplk24 |")
