@@ -1,0 +1,78 @@
+"""Crease points joining a planar region again, after the regions' meeting shipped: the tables
+and the plot of the section "Again at 44192db" of docs/experiments/2026-12-06-crease-points.md
+from the files beside this file.
+    python3 analyse.py [DIR]"""
+import csv
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../../bench"))
+from paired import SURFACE_KEYS, arm_row, hard_surface_table, load_rows, paired_rows  # noqa: E402
+
+here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
+# base: 44192db. fringe: every point left out of a region joins the nearest region plane among
+# its neighbours' within the growth's distance limit (the entry's ab1). fringe2: only points
+# with two regions among their neighbours (ab1two). meetonly: fringe, but the joined points
+# keep their own planes (the fringe seen by the meeting of regions only). explained: only
+# points all of whose neighbours lie within the limit of one of their regions' planes.
+HS_ARMS = ["base", "fringe", "fringe2", "meetonly", "explained"]
+VAL_ARMS = ["base", "fringe", "fringe2", "explained"]
+rows = list(csv.DictReader(open(os.path.join(here, "hard_surface.csv"))))
+ef1 = hard_surface_table(rows, HS_ARMS)
+
+print("\nPer shape with 1% noise: EF1 (mean of the 3 seeds) and faces (seeds 0, 2, 3)")
+print("| shape | EF1 base | EF1 fringe | EF1 explained | faces base | faces fringe | faces explained |")
+print("|---|---:|---:|---:|---|---|---|")
+for shape in sorted({r["shape"] for r in rows}):
+    cells = []
+    for key in ["ef1", "faces"]:
+        for arm in ["base", "fringe", "explained"]:
+            rs = sorted((r for r in rows if r["arm"] == arm and r["input"] == "noise1" and r["shape"] == shape),
+                        key=lambda r: r["seed"])
+            cells.append(f"{sum(float(r['ef1']) for r in rs) / len(rs):.2f}" if key == "ef1"
+                         else ", ".join(r["faces"] for r in rs))
+    print(f"| {shape} | " + " | ".join(cells) + " |")
+
+diffs = {}
+for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
+    base = load_rows(os.path.join(here, f"{prefix}_base.per_mesh.csv"), SURFACE_KEYS)
+    print(f"\n226 validation meshes, {label} (paired differences from base, mean ± s.e.)")
+    print("| arm | CD x100 | NC | ECD x100 | EF1 | faces | holes | CD vs base | NC vs base | EF1 vs base "
+          "| faces vs base | holes vs base |")
+    print("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
+    for arm in VAL_ARMS:
+        r = base if arm == "base" else load_rows(os.path.join(here, f"{prefix}_{arm}.per_mesh.csv"), SURFACE_KEYS)
+        print(arm_row(arm, r, None if arm == "base" else base, ["cd", "nc", "ef1", "faces", "holes"]))
+        if arm != "base":
+            diffs[(prefix, arm)] = paired_rows(r, base, "ef1")
+
+try:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+except ImportError:
+    sys.exit(0)
+fig, ax = plt.subplots(figsize=(7, 4))
+points = [(f"{label}\nhard-surface", [ef1[(a, inp)] for a in HS_ARMS[1:]], sum(ef1[("base", inp)]) / 3)
+          for inp, label in [("clean", "clean"), ("noise1", "1% noise")]]
+x = 0
+for label, arms_seeds, base_mean in points:
+    for k, per_seed in enumerate(arms_seeds):
+        ax.bar(x + k * 0.2, sum(per_seed) / 3 - base_mean, width=0.2, color=f"C{k}",
+               label=HS_ARMS[1 + k] if x == 0 else None)
+        ax.plot([x + k * 0.2] * 3, [s - base_mean for s in per_seed], "k.", ms=3)
+    x += 1
+for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
+    for k, arm in enumerate(VAL_ARMS[1:]):
+        mean, se = diffs[(prefix, arm)]
+        k = HS_ARMS.index(arm) - 1
+        ax.bar(x + k * 0.2, mean, width=0.2, color=f"C{k}", yerr=se, capsize=3)
+    x += 1
+ax.set_xticks([i + 0.3 for i in range(4)], ["clean\nhard-surface", "1% noise\nhard-surface",
+                                              "clean\nvalidation", "1% noise\nvalidation"], fontsize=8)
+ax.axhline(0, color="grey", lw=0.5)
+ax.set_ylabel("EF1 against base (dots: seeds; bars: ± s.e.)")
+ax.set_title("Crease points joining a region at 44192db: EF1 against base")
+ax.legend(fontsize=8)
+fig.tight_layout()
+fig.savefig(os.path.join(here, "after_region_meet.png"), dpi=110)
