@@ -14,19 +14,21 @@ here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__f
 # its neighbours' within the growth's distance limit (the entry's ab1). fringe2: only points
 # with two regions among their neighbours (ab1two). meetonly: fringe, but the joined points
 # keep their own planes (the fringe seen by the meeting of regions only). explained: only
-# points all of whose neighbours lie within the limit of one of their regions' planes.
-HS_ARMS = ["base", "fringe", "fringe2", "meetonly", "explained"]
-VAL_ARMS = ["base", "fringe", "fringe2", "explained"]
+# points all of whose neighbours lie within the limit of one of their regions' planes. gated:
+# explained, only where the regions' member-weighted median RMS off their planes is over 0.35
+# point spacings (a noisy input).
+HS_ARMS = ["base", "fringe", "fringe2", "meetonly", "explained", "gated"]
+VAL_ARMS = ["base", "fringe", "fringe2", "explained", "gated"]
 rows = list(csv.DictReader(open(os.path.join(here, "hard_surface.csv"))))
 ef1 = hard_surface_table(rows, HS_ARMS)
 
 print("\nPer shape with 1% noise: EF1 (mean of the 3 seeds) and faces (seeds 0, 2, 3)")
-print("| shape | EF1 base | EF1 fringe | EF1 explained | faces base | faces fringe | faces explained |")
+print("| shape | EF1 base | EF1 fringe | EF1 gated | faces base | faces fringe | faces gated |")
 print("|---|---:|---:|---:|---|---|---|")
 for shape in sorted({r["shape"] for r in rows}):
     cells = []
     for key in ["ef1", "faces"]:
-        for arm in ["base", "fringe", "explained"]:
+        for arm in ["base", "fringe", "gated"]:
             rs = sorted((r for r in rows if r["arm"] == arm and r["input"] == "noise1" and r["shape"] == shape),
                         key=lambda r: r["seed"])
             cells.append(f"{sum(float(r['ef1']) for r in rs) / len(rs):.2f}" if key == "ef1"
@@ -58,15 +60,15 @@ points = [(f"{label}\nhard-surface", [ef1[(a, inp)] for a in HS_ARMS[1:]], sum(e
 x = 0
 for label, arms_seeds, base_mean in points:
     for k, per_seed in enumerate(arms_seeds):
-        ax.bar(x + k * 0.2, sum(per_seed) / 3 - base_mean, width=0.2, color=f"C{k}",
+        ax.bar(x + k * 0.16, sum(per_seed) / 3 - base_mean, width=0.16, color=f"C{k}",
                label=HS_ARMS[1 + k] if x == 0 else None)
-        ax.plot([x + k * 0.2] * 3, [s - base_mean for s in per_seed], "k.", ms=3)
+        ax.plot([x + k * 0.16] * 3, [s - base_mean for s in per_seed], "k.", ms=3)
     x += 1
 for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
     for k, arm in enumerate(VAL_ARMS[1:]):
         mean, se = diffs[(prefix, arm)]
         k = HS_ARMS.index(arm) - 1
-        ax.bar(x + k * 0.2, mean, width=0.2, color=f"C{k}", yerr=se, capsize=3)
+        ax.bar(x + k * 0.16, mean, width=0.16, color=f"C{k}", yerr=se, capsize=3)
     x += 1
 ax.set_xticks([i + 0.3 for i in range(4)], ["clean\nhard-surface", "1% noise\nhard-surface",
                                               "clean\nvalidation", "1% noise\nvalidation"], fontsize=8)
