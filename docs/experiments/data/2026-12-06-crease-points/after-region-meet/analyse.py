@@ -3,11 +3,12 @@ and the plot of the section "Again at 44192db" of docs/experiments/2026-12-06-cr
 from the files beside this file.
     python3 analyse.py [DIR]"""
 import csv
+import json
 import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../../bench"))
-from paired import SURFACE_KEYS, arm_row, hard_surface_table, load_rows, paired_rows  # noqa: E402
+from paired import SURFACE_KEYS, arm_row, hard_surface_table, load_rows, mean_se, paired_rows  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # base: 44192db. fringe: every point left out of a region joins the nearest region plane among
@@ -47,6 +48,19 @@ for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
         print(arm_row(arm, r, None if arm == "base" else base, ["cd", "nc", "ef1", "faces", "holes"]))
         if arm != "base":
             diffs[(prefix, arm)] = paired_rows(r, base, "ef1")
+
+# The test split with 1% noise, gated against the shipped build's run, per mesh (both compacted
+# by bench/sharpen_eval/compact.py).
+shipped = {m["name"]: m for m in json.load(open(os.path.join(
+    here, "../../../../../bench/sharpen_eval/test_noise1_sharpened.json")))["per_mesh"]}
+gated = {m["name"]: m for m in json.load(open(os.path.join(here, "test_noise1_gated_sharpened.json")))["per_mesh"]}
+print("\nTest split, 1% noise: gated against the shipped build (paired, mean ± s.e.)")
+for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
+    pairs = [(shipped[n][key], g[key]) for n, g in gated.items()
+             if n in shipped and shipped[n][key] is not None and g[key] is not None]
+    m, se = mean_se([b - a for a, b in pairs])
+    print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
+          f"{m:+.4f} ± {se:.4f}")
 
 try:
     import matplotlib
