@@ -80,11 +80,13 @@ def paired_cells(a, b):
     return [f"{dc:+.3f} ± {sc:.3f}", f"{dn:+.4f} ± {sn:.4f}", f"{dh:+.3f} ± {sh:.3f}"], (dh, sh, dc, sc)
 
 
-def finish_paired_plot(fig, ax, xlabel, ylabel, title, path, dpi=110):
+def finish_paired_plot(fig, ax, xlabel, ylabel, title, path, dpi=110, x_zero=True):
     """The frame every experiment's plot of paired changes shares (zero lines through both
-    axes, labels, title), then the figure written to `path`."""
+    axes, or the y axis only without `x_zero`, as a bar chart wants; labels, title), then the
+    figure written to `path`."""
     ax.axhline(0, color="grey", lw=0.5)
-    ax.axvline(0, color="grey", lw=0.5)
+    if x_zero:
+        ax.axvline(0, color="grey", lw=0.5)
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
     ax.set_title(title)

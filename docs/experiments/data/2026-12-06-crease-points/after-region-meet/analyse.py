@@ -8,7 +8,8 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../../bench"))
-from paired import SURFACE_KEYS, arm_row, hard_surface_table, load_rows, mean_se, paired_rows  # noqa: E402
+from paired import (SURFACE_KEYS, arm_row, finish_paired_plot, hard_surface_table, load_rows,  # noqa: E402
+                    mean_se, paired_rows)
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # base: 44192db. fringe: every point left out of a region joins the nearest region plane among
@@ -69,26 +70,23 @@ try:
 except ImportError:
     sys.exit(0)
 fig, ax = plt.subplots(figsize=(7, 4))
-points = [(f"{label}\nhard-surface", [ef1[(a, inp)] for a in HS_ARMS[1:]], sum(ef1[("base", inp)]) / 3)
-          for inp, label in [("clean", "clean"), ("noise1", "1% noise")]]
+points = [([ef1[(a, inp)] for a in HS_ARMS[1:]], sum(ef1[("base", inp)]) / 3) for inp in ["clean", "noise1"]]
 x = 0
-for label, arms_seeds, base_mean in points:
+for arms_seeds, base_mean in points:
     for k, per_seed in enumerate(arms_seeds):
         ax.bar(x + k * 0.16, sum(per_seed) / 3 - base_mean, width=0.16, color=f"C{k}",
                label=HS_ARMS[1 + k] if x == 0 else None)
         ax.plot([x + k * 0.16] * 3, [s - base_mean for s in per_seed], "k.", ms=3)
     x += 1
 for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
-    for k, arm in enumerate(VAL_ARMS[1:]):
+    for arm in VAL_ARMS[1:]:
         mean, se = diffs[(prefix, arm)]
         k = HS_ARMS.index(arm) - 1
         ax.bar(x + k * 0.16, mean, width=0.16, color=f"C{k}", yerr=se, capsize=3)
     x += 1
 ax.set_xticks([i + 0.3 for i in range(4)], ["clean\nhard-surface", "1% noise\nhard-surface",
                                               "clean\nvalidation", "1% noise\nvalidation"], fontsize=8)
-ax.axhline(0, color="grey", lw=0.5)
-ax.set_ylabel("EF1 against base (dots: seeds; bars: ± s.e.)")
-ax.set_title("Crease points joining a region at 44192db: EF1 against base")
 ax.legend(fontsize=8)
-fig.tight_layout()
-fig.savefig(os.path.join(here, "after_region_meet.png"), dpi=110)
+finish_paired_plot(fig, ax, None, "EF1 against base (dots: seeds; bars: ± s.e.)",
+                   "Crease points joining a region at 44192db: EF1 against base",
+                   os.path.join(here, "after_region_meet.png"), x_zero=False)
