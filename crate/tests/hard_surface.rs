@@ -148,8 +148,9 @@ fn noisy_flat_faces_come_back_as_few_flat_faces() {
     // Measured (2026-12-06): EF1 0.22 and 6.9x the faces with each point's own plane, which
     // the noise tilts (a flat side came back as a dozen faces, creased between them); 0.33
     // and 5.3x with the planes of the input's planar regions; 0.39 and 5.5x with a vertex near
-    // two or three regions placed where they meet.
-    assert!(ef1 > 0.36 && faces < 6.0, "EF1 {ef1}, {faces}x the faces");
+    // two or three regions placed where they meet; 0.43 and 4.7x with the points next to a
+    // crease joining the face they lie on.
+    assert!(ef1 > 0.41 && faces < 5.2, "EF1 {ef1}, {faces}x the faces");
 }
 
 #[test]

@@ -4,7 +4,9 @@
 //! One objective: the squared distance from the mesh to the planes of the input points
 //! (each point's plane fitted to its `plane_neighbours` nearest points, weighted by how
 //! planar that neighbourhood is, or where the point lies in a planar region of the input the
-//! region's one plane, [`PointPlanes`]), with as few faces as that distance allows.
+//! region's one plane, [`PointPlanes`]; on a noisy input a point left out of every region
+//! whose neighbours lie on their regions' planes joins the nearest of those), with as few
+//! faces as that distance allows.
 //! Five steps pursue it:
 //!
 //! 1. **Room.** Each face is split into four until the median edge is at most about three
@@ -64,7 +66,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
-use crate::geometry::plane_regions::{PlaneRegion, plane_regions};
+use crate::geometry::plane_regions::{PlaneRegion, join_fringe, plane_regions, regions_noise};
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::topology::{TopologyReport, edges};
@@ -223,6 +225,9 @@ const REGION_DISTANCE: f64 = 2.5;
 const REGION_ANGLE_DEG: f64 = 25.0;
 const REGION_RMS: f64 = 1.2;
 const REGION_MIN_POINTS: usize = 36;
+/// An input is noisy, and the points left out of its regions join them ([`join_fringe`]),
+/// where its regions' noise ([`regions_noise`]) is over this many point spacings.
+const NOISY_REGIONS: f64 = 0.35;
 
 /// Where planar regions meet ([`PointPlanes::region_meet`]): the regions of this many points
 /// nearest a vertex (twice a point's plane neighbours, as a region stops a spacing or two
@@ -320,7 +325,7 @@ impl PointPlanes {
         // Planar regions: a flat part's points take its one plane, which noise does not tilt.
         let spacing = index.spacing() as f64;
         let noise = rms_off_plane.max(0.01 * spacing);
-        let (regions, of_point) = plane_regions(
+        let (regions, mut of_point) = plane_regions(
             &index,
             &normals,
             &variation,
@@ -330,6 +335,18 @@ impl PointPlanes {
             REGION_RMS * noise,
             REGION_MIN_POINTS,
         );
+        // A noisy input's regions stop short of its creases: the points there join the face
+        // they lie on. A clean one's reach them, and joining there only costs the artist
+        // meshes' fillets (docs/experiments/2026-12-06-crease-points.md).
+        if regions_noise(&regions) > NOISY_REGIONS * spacing {
+            join_fringe(
+                &index,
+                k.max(3),
+                REGION_DISTANCE * noise,
+                &regions,
+                &mut of_point,
+            );
+        }
         for (i, region) in of_point.iter().enumerate() {
             if let Some(r) = region.map(|r| regions[r as usize]) {
                 normals[i] = r.normal;

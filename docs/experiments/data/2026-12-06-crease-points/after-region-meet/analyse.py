@@ -5,6 +5,7 @@ from the files beside this file.
 import csv
 import json
 import os
+import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../../bench"))
@@ -50,18 +51,27 @@ for prefix, label in [("val", "clean"), ("valn", "1% noise")]:
         if arm != "base":
             diffs[(prefix, arm)] = paired_rows(r, base, "ef1")
 
-# The test split with 1% noise, gated against the shipped build's run, per mesh (both compacted
-# by bench/sharpen_eval/compact.py).
-shipped = {m["name"]: m for m in json.load(open(os.path.join(
-    here, "../../../../../bench/sharpen_eval/test_noise1_sharpened.json")))["per_mesh"]}
-gated = {m["name"]: m for m in json.load(open(os.path.join(here, "test_noise1_gated_sharpened.json")))["per_mesh"]}
-print("\nTest split, 1% noise: gated against the shipped build (paired, mean ± s.e.)")
-for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
-    pairs = [(shipped[n][key], g[key]) for n, g in gated.items()
-             if n in shipped and shipped[n][key] is not None and g[key] is not None]
-    m, se = mean_se([b - a for a, b in pairs])
-    print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
-          f"{m:+.4f} ± {se:.4f}")
+# The test split clean, with 1% noise and with 30% missing: gated (this folder's
+# test*_gated_sharpened.json) against the shipped build's runs at 0c04384 (read from git), per
+# mesh; both compacted by bench/sharpen_eval/compact.py.
+root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../..")
+for prefix, label in [("test", "clean"), ("test_noise1", "1% noise"), ("test_missing30", "30% missing")]:
+    shipped_json = subprocess.run(["git", "-C", root, "show", f"0c04384:bench/sharpen_eval/{prefix}_sharpened.json"],
+                                  capture_output=True, text=True, check=True).stdout
+    shipped = {m["name"]: m for m in json.loads(shipped_json)["per_mesh"]}
+    gated = {m["name"]: m for m in json.load(open(os.path.join(here, f"{prefix}_gated_sharpened.json")))["per_mesh"]}
+    # A mesh changes when its faces or its CD do (beyond the last digits, which the shipped
+    # runs' Intel Xeon VM and the gated runs' AMD EPYC VM round differently).
+    changed = sum(1 for n, g in gated.items() if n in shipped and (
+        g["faces"] != shipped[n]["faces"] or abs(g["cd_x100"] - shipped[n]["cd_x100"]) > 1e-5))
+    print(f"\nTest split, {label}: gated against the shipped build (paired, mean ± s.e.; {changed} of "
+          f"{len(gated)} meshes change)")
+    for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
+        pairs = [(shipped[n][key], g[key]) for n, g in gated.items()
+                 if n in shipped and shipped[n][key] is not None and g[key] is not None]
+        m, se = mean_se([b - a for a, b in pairs])
+        print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
+              f"{m:+.4f} ± {se:.4f}")
 
 try:
     import matplotlib
