@@ -16,6 +16,8 @@ pub mod mesh;
 pub mod nearest;
 pub mod normalize;
 pub mod normals;
+/// The best-fitting plane of a set of points (covariance, direction of least spread).
+pub mod plane_fit;
 /// Planar regions of a point cloud (region growing): the flat parts of a noisy scan.
 pub mod plane_regions;
 pub mod primitives;

@@ -13,7 +13,7 @@
 use glam::{DVec3, Vec3};
 
 use crate::geometry::nearest::PointIndex;
-use crate::surface::fit::least_spread_direction;
+use crate::geometry::plane_fit::least_spread_direction;
 
 /// One planar region: a unit normal, a point on its plane, and its member points' count.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -208,8 +208,8 @@ fn fit_plane(members: &[usize], position: &[Option<DVec3>], towards: DVec3) -> (
 mod tests {
     use super::*;
     use crate::data::degrade::{Degradation, degrade};
+    use crate::geometry::plane_fit::covariance;
     use crate::geometry::quadric::symmetric_eigenvalues;
-    use crate::pipeline::budget::covariance;
     use glam::Vec3;
 
     /// Points on two faces of a box's corner (x = 0 for y, z in [0, 1], and y = 0 for x, z

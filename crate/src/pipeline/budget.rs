@@ -28,6 +28,7 @@ use glam::{DVec3, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::geometry::nearest::PointIndex;
+use crate::geometry::plane_fit::covariance;
 use crate::geometry::quadric::symmetric_eigenvalues;
 use crate::geometry::voxel::voxel_index;
 use crate::rng::Rng;
@@ -120,22 +121,6 @@ fn smallest_eigenvalue_share(points: &[DVec3]) -> f64 {
         return 0.0;
     }
     (symmetric_eigenvalues(c)[0] / trace).clamp(0.0, 1.0 / 3.0)
-}
-
-/// The covariance matrix of `points` (non-empty), normalised by their count.
-pub(crate) fn covariance(points: &[DVec3]) -> [[f64; 3]; 3] {
-    let n = points.len() as f64;
-    let mean = points.iter().copied().sum::<DVec3>() / n;
-    let mut c = [[0.0f64; 3]; 3];
-    for p in points {
-        let d = (*p - mean).to_array();
-        for (i, row) in c.iter_mut().enumerate() {
-            for (j, x) in row.iter_mut().enumerate() {
-                *x += d[i] * d[j] / n;
-            }
-        }
-    }
-    c
 }
 
 /// The rule's inputs for `features`, in the order of [`BudgetRule::coefficients`]: `1, ln A,

@@ -63,8 +63,8 @@ use crate::extract::orient_face;
 use crate::geometry::clean::weld;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
+use crate::geometry::plane_fit::least_spread_direction;
 use crate::geometry::topology::sorted_face;
-use crate::surface::fit::least_spread_direction;
 use crate::surface::input::InputPoints;
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).

@@ -31,9 +31,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::extract::manifold::unit_normal;
 use crate::geometry::nearest::PointIndex;
-use crate::geometry::quadric::symmetric_eigenvalues;
+use crate::geometry::plane_fit::least_spread_direction;
 use crate::geometry::topology::{Edge, folds};
-use crate::pipeline::budget::covariance;
 use crate::surface::input::InputPoints;
 
 /// Options of [`fit_to_points`] (missing JSON fields take the defaults).
@@ -149,36 +148,6 @@ pub(crate) fn project(p: Vec3, points: &PointIndex, k: usize) -> Vec3 {
     let centroid = near.iter().copied().sum::<DVec3>() / near.len() as f64;
     let v = p.as_dvec3();
     (v - normal * (v - centroid).dot(normal)).as_vec3()
-}
-
-/// The unit eigenvector of the points' covariance with the smallest eigenvalue (the normal of
-/// the plane that fits them best), or `None` when they do not span a plane's worth of
-/// directions (fewer than 3 points, or all on one line).
-pub(crate) fn least_spread_direction(points: &[DVec3]) -> Option<DVec3> {
-    if points.len() < 3 {
-        return None;
-    }
-    let c = covariance(points);
-    let [smallest, middle, _] = symmetric_eigenvalues(c);
-    // A line (or a point): the middle eigenvalue is zero too, and no plane is defined.
-    if middle <= 1e-12 * (c[0][0] + c[1][1] + c[2][2]).max(1e-300) {
-        return None;
-    }
-    // The eigenvector is orthogonal to the rows of C - lambda I: the longest cross product of
-    // two of them.
-    let rows = [0, 1, 2].map(|i| {
-        let mut r = DVec3::from_array(c[i]);
-        r[i] -= smallest;
-        r
-    });
-    [
-        rows[0].cross(rows[1]),
-        rows[1].cross(rows[2]),
-        rows[2].cross(rows[0]),
-    ]
-    .into_iter()
-    .max_by(|a, b| a.length_squared().total_cmp(&b.length_squared()))
-    .and_then(|v| v.try_normalize())
 }
 
 /// The two faces of each edge that has exactly two.
@@ -392,16 +361,5 @@ mod tests {
             &FitOptions::default(),
         );
         assert_eq!(positions, original);
-    }
-
-    #[test]
-    fn points_on_a_line_define_no_plane() {
-        let line: Vec<DVec3> = (0..10).map(|i| DVec3::new(i as f64, 0.0, 0.0)).collect();
-        assert_eq!(least_spread_direction(&line), None);
-        let plane: Vec<DVec3> = (0..16)
-            .map(|i| DVec3::new((i % 4) as f64, (i / 4) as f64, 0.0))
-            .collect();
-        let n = least_spread_direction(&plane).unwrap();
-        assert!((n.z.abs() - 1.0).abs() < 1e-9);
     }
 }

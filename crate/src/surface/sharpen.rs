@@ -66,6 +66,7 @@ use crate::Mesh;
 use crate::geometry::edit::EditMesh;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
+use crate::geometry::plane_fit::{covariance, least_spread_direction};
 use crate::geometry::plane_regions::{PlaneRegion, join_fringe, plane_regions, regions_noise};
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
@@ -74,8 +75,7 @@ use crate::geometry::triangle::{
     Bound, closest_point_weights, nearest_triangle, point_triangle_distance,
 };
 use crate::parallel::map_in_parallel;
-use crate::pipeline::budget::covariance;
-use crate::surface::fit::{face_pairs, hold_back_folds, least_spread_direction};
+use crate::surface::fit::{face_pairs, hold_back_folds};
 
 /// Options of [`sharpen`] (missing JSON fields take the defaults).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
