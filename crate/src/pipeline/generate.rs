@@ -1094,7 +1094,7 @@ fn sharpens(opts: &GenerateOptions) -> bool {
 /// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which). Sharpening
 /// starts from the kept mesh snapped to a grid ([`SHARPEN_GRID_BITS`]), so that the browser's
 /// CPU path and the CLI, whose fitted positions differ by a few ulps, sharpen the same mesh.
-/// The holes the kept round still has are closed once more ([`close_sharpened`]:
+/// The holes the kept round still has are closed once more (`close_sharpened`:
 /// [`SharpenReport::holes_closed`] counts them).
 pub fn sharpen_kept(
     mut g: Generated,

@@ -107,8 +107,8 @@ pub struct SharpenOptions {
     /// this many times the fitted mesh's (`pipeline::generate::sharpen_kept`; 1: never
     /// farther).
     pub accept_ratio: f64,
-    /// Steps of reach in each round: the input points that the mesh does not come near
-    /// ([`REACH_SPACINGS`]) draw the faces nearest them out along the surface (0: none).
+    /// Steps of reach in each round: the input points that the mesh does not come within two
+    /// point spacings of draw the faces nearest them out along the surface (0: none).
     pub reach_steps: usize,
     /// Generation sharpens this many of its candidates, the nearest the input points first,
     /// and keeps the sharpened one nearest them (`pipeline::generate::keep_sharpened`; 1: only
