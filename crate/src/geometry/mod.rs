@@ -23,6 +23,8 @@ pub mod plane_regions;
 pub mod primitives;
 /// Plane quadrics and their truncated minimiser (placement and decimation).
 pub mod quadric;
+/// Vertices a flat region, a straight crease or a straight boundary does not need, removed.
+pub mod redundant_vertices;
 pub mod sample;
 /// Positions snapped to a grid on the input's box (the same start for sharpening everywhere).
 pub mod snap;

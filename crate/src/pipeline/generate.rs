@@ -1091,7 +1091,8 @@ fn sharpens(opts: &GenerateOptions) -> bool {
 /// measure (times [`SharpenOptions::accept_ratio`]) replaces the kept one: where the model's
 /// mesh was too far off for the edits (loose flaps, crumpled sheets, thin parts the collapses
 /// would flatten), an earlier round or, when none passes, the mesh as it was stays
-/// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which). Sharpening
+/// ([`SharpenReport::accepted`] and [`SharpenReport::rounds_kept`] say which), without the
+/// vertices its flat faces do not need ([`SharpenReport::redundant_removed`]). Sharpening
 /// starts from the kept mesh snapped to a grid ([`SHARPEN_GRID_BITS`]), so that the browser's
 /// CPU path and the CLI, whose fitted positions differ by a few ulps, sharpen the same mesh.
 /// The holes the kept round still has are closed once more (`close_sharpened`:
@@ -1132,6 +1133,12 @@ pub fn sharpen_kept(
         ok
     });
     report.input_distance_before = before;
+    // The judge saw the kept round before the vertices it did not need went: its faces and
+    // its distance to the input are the shipped mesh's again.
+    if report.accepted && report.redundant_removed > 0 {
+        let topology = TopologyReport::of(&mesh);
+        last = Some((input_score(&mesh, topology.holes, points, planes), topology));
+    }
     // The holes the sharpened mesh still has, closed where its flatter rim now lets a patch
     // lie on the input without folding.
     if report.accepted

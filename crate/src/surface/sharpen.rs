@@ -47,7 +47,10 @@
 //!    would is flipped: an edge across a crease becomes one along it.
 //!
 //! The five steps run `passes` times (16 by default); each round starts nearer the input than
-//! the last, so placement and collapses correct what the previous round left.
+//! the last, so placement and collapses correct what the previous round left. The round kept
+//! then loses the vertices it does not need (one inside a flat side, on a straight crease or
+//! on a straight rim: [`remove_redundant_vertices`], within a quarter of a point spacing),
+//! which the greedy collapses' order and guards can leave.
 //!
 //! The mesh stays manifold with consistent winding; its holes and pieces are kept (no edit
 //! joins two boundaries), and no collapse or flip leaves more folded edges around it than
@@ -70,6 +73,7 @@ use crate::geometry::plane_fit::{covariance, least_spread_direction};
 use crate::geometry::plane_regions::{PlaneRegion, join_fringe, plane_regions, regions_noise};
 use crate::geometry::quadric::Quadric;
 use crate::geometry::quadric::symmetric_eigenvalues;
+use crate::geometry::redundant_vertices::remove_redundant_vertices;
 use crate::geometry::topology::{TopologyReport, edges};
 use crate::geometry::triangle::{
     Bound, closest_point_weights, nearest_triangle, point_triangle_distance,
@@ -173,6 +177,10 @@ pub struct SharpenReport {
     /// reports written before, and read as 0.
     #[serde(default)]
     pub holes_closed: usize,
+    /// Vertices of the kept round that the surface did not need, removed
+    /// ([`remove_redundant_vertices`]); absent from reports written before, and read as 0.
+    #[serde(default)]
+    pub redundant_removed: usize,
 }
 
 impl SharpenReport {
@@ -209,6 +217,13 @@ impl std::fmt::Display for SharpenReport {
             self.collapses,
             100.0 * self.model_edges_kept
         )?;
+        if self.redundant_removed > 0 {
+            write!(
+                f,
+                "; {} vertices a flat face did not need removed",
+                self.redundant_removed
+            )?;
+        }
         if self.holes_closed > 0 {
             write!(f, "; {} holes closed after it", self.holes_closed)?;
         }
@@ -676,7 +691,19 @@ pub fn sharpen_judged(
         return report;
     };
     report.rounds_kept = round;
-    let kept = &rounds[round - 1].2;
+    // The kept round's flat regions, straight creases and straight rims without the vertices
+    // they do not need (greedy collapses leave some, by cost order and their guards).
+    let mut edit = EditMesh::new(
+        judged.positions.iter().map(|p| p.as_dvec3()).collect(),
+        &judged.faces,
+    );
+    report.redundant_removed =
+        remove_redundant_vertices(&mut edit, REDUNDANT_SPACINGS * planes.spacing);
+    let (positions, faces, survivors) = edit.compacted();
+    let judged = as_mesh(&positions, &faces);
+    let kept: Vec<u32> = (survivors.iter())
+        .map(|&v| rounds[round - 1].2[v as usize])
+        .collect();
     let faces = &judged.faces;
     let out_edges: std::collections::HashSet<[u32; 2]> = faces
         .iter()
@@ -699,6 +726,10 @@ pub fn sharpen_judged(
     report.faces_out = mesh.faces.len();
     report
 }
+
+/// How far, in input point spacings, the removal of the vertices a flat region does not need
+/// may move the surface: a quarter of a spacing, below what the input can tell.
+const REDUNDANT_SPACINGS: f64 = 0.25;
 
 /// Median edge length of the live faces.
 fn median_edge(m: &EditMesh) -> Option<f64> {
