@@ -1,8 +1,9 @@
 //! Vertices the surface does not need: one inside a flat region, on a straight crease or on a
 //! straight stretch of boundary goes, by a half-edge collapse into a neighbour that leaves the
 //! surface where it was (within a tolerance), so a flat face ends as few triangles as its
-//! outline allows. Hand-written on [`EditMesh`]: a simplifier driven by an error budget
-//! (quadric decimation) stops at its budget, not at the last vertex that changes nothing.
+//! outline allows. Hand-written on [`EditMesh`](crate::geometry::edit::EditMesh): a
+//! simplifier driven by an error budget (quadric decimation) stops at its budget, not at the
+//! last vertex that changes nothing.
 
 use glam::DVec3;
 
@@ -16,10 +17,13 @@ const SAME_PLANE_COS: f64 = 0.999_847_695_156_391_2;
 /// Removes, pass after pass until none is left, each vertex whose collapse into one of its
 /// neighbours moves the surface by at most `tolerance`: the removed vertex stays within
 /// `tolerance` of the faces that replace its own, the neighbour within `tolerance` of the
-/// planes of the faces it joins, no face turns by more than about a degree, and the mesh stays
-/// manifold with no more folded edges ([`EditMesh::can_collapse`]). Of the neighbours that
-/// qualify, the one whose new faces have the largest smallest angle takes it. Returns the
-/// vertices removed.
+/// planes of the faces it joins, seven points of each new face within `tolerance` of the old
+/// faces and of each old face within it of the new ones, no face turns by more than about a
+/// degree, and the mesh stays manifold with no more folded edges ([`EditMesh::can_collapse`]).
+/// Each collapse is judged against the mesh as it is then, so over several the surface can
+/// drift by more; on a flat side or a straight crease it does not move at all. Of the
+/// neighbours that qualify, the one whose new faces have the largest smallest angle takes it.
+/// Returns the vertices removed.
 pub fn remove_redundant_vertices(m: &mut EditMesh, tolerance: f64) -> usize {
     let mut removed = 0;
     loop {
@@ -95,8 +99,9 @@ fn keeps_surface(m: &EditMesh, u: u32, v: u32, tolerance: f64) -> Option<f64> {
     )
 }
 
-/// Where a new face is checked against the old ones (barycentric weights): its centroid, its
-/// edges' midpoints and the points halfway from the centroid to its corners.
+/// Where a face is checked against the faces on the other side of a collapse (barycentric
+/// weights): its centroid, its edges' midpoints and the points halfway from the centroid to
+/// its corners.
 const PROBES: [[f64; 3]; 7] = [
     [1.0 / 3.0, 1.0 / 3.0, 1.0 / 3.0],
     [0.5, 0.5, 0.0],
