@@ -13,6 +13,7 @@
 
 use glam::DVec3;
 
+use crate::Mesh;
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::topology::folds;
 
@@ -464,6 +465,20 @@ impl EditMesh {
         *self = EditMesh::new(positions, &faces);
     }
 
+    /// `mesh` open to edits (its positions in f64).
+    pub fn from_mesh(mesh: &Mesh) -> Self {
+        EditMesh::new(
+            mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
+            &mesh.faces,
+        )
+    }
+
+    /// The live faces as a mesh ([`Self::compacted`], positions back in f32, no normals).
+    pub fn to_mesh(&self) -> Mesh {
+        let (positions, faces, _) = self.compacted();
+        Mesh::new(positions.iter().map(|p| p.as_vec3()).collect(), faces)
+    }
+
     /// The live faces, with the vertices they use renumbered in order, and the old index of
     /// each kept vertex.
     pub fn compacted(&self) -> (Vec<DVec3>, Vec<[u32; 3]>, Vec<u32>) {
@@ -487,17 +502,15 @@ impl EditMesh {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::Mesh;
     use crate::geometry::primitives::{cube, grid, icosphere};
     use crate::geometry::topology::TopologyReport;
 
     fn edit(m: &Mesh) -> EditMesh {
-        EditMesh::new(m.positions.iter().map(|p| p.as_dvec3()).collect(), &m.faces)
+        EditMesh::from_mesh(m)
     }
 
     fn report(e: &EditMesh) -> TopologyReport {
-        let (p, f, _) = e.compacted();
-        TopologyReport::of(&Mesh::new(p.iter().map(|p| p.as_vec3()).collect(), f))
+        TopologyReport::of(&e.to_mesh())
     }
 
     #[test]

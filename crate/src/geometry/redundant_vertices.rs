@@ -138,15 +138,6 @@ mod tests {
     use crate::geometry::topology::TopologyReport;
     use glam::Vec3;
 
-    fn edit(m: &Mesh) -> EditMesh {
-        EditMesh::new(m.positions.iter().map(|p| p.as_dvec3()).collect(), &m.faces)
-    }
-
-    fn mesh(e: &EditMesh) -> Mesh {
-        let (p, f, _) = e.compacted();
-        Mesh::new(p.iter().map(|p| p.as_vec3()).collect(), f)
-    }
-
     /// The farthest that samples of either mesh are from the other's surface (a Hausdorff
     /// distance up to the sampling).
     fn farthest_apart(a: &Mesh, b: &Mesh) -> f64 {
@@ -169,9 +160,9 @@ mod tests {
     }
 
     fn removed(m: &Mesh, tolerance: f64) -> (Mesh, usize) {
-        let mut e = edit(m);
+        let mut e = EditMesh::from_mesh(m);
         let n = remove_redundant_vertices(&mut e, tolerance);
-        (mesh(&e), n)
+        (e.to_mesh(), n)
     }
 
     #[test]
@@ -181,7 +172,7 @@ mod tests {
         // tilted by the jitter, say nothing about the surface.
         let tolerance = 0.01;
         let mut rng = crate::rng::Rng::new(3);
-        let mut e = edit(&cube());
+        let mut e = EditMesh::from_mesh(&cube());
         for _ in 0..3 {
             e.subdivide();
         }
@@ -195,7 +186,7 @@ mod tests {
             let j = DVec3::new(rng.next_f64(), rng.next_f64(), rng.next_f64()) - 0.5;
             *p += j * 1e-4;
         }
-        let m = mesh(&e);
+        let m = e.to_mesh();
         let (out, n) = removed(&m, tolerance);
         let apart = farthest_apart(&m, &out);
         assert!(n > 100, "{n} removed");
@@ -220,12 +211,12 @@ mod tests {
 
     #[test]
     fn a_split_cube_becomes_its_eight_corners_and_twelve_faces() {
-        let mut e = edit(&cube());
+        let mut e = EditMesh::from_mesh(&cube());
         e.subdivide();
         e.subdivide();
         assert_eq!(e.face_count(), 192);
         let n = remove_redundant_vertices(&mut e, 1e-6);
-        let out = mesh(&e);
+        let out = e.to_mesh();
         assert_eq!((n, out.positions.len(), out.faces.len()), (90, 8, 12));
         assert!(
             out.positions.iter().all(|p| p.abs() == Vec3::ONE),

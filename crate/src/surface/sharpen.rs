@@ -552,10 +552,7 @@ pub fn sharpen_judged(
     // The mesh's own size, which a few far outliers among the points do not inflate.
     let extent = mesh.aabb().map_or(0.0, |b| f64::from(b.max_extent()));
     let model_edges = edges(&mesh.faces);
-    let mut m = EditMesh::new(
-        mesh.positions.iter().map(|p| p.as_dvec3()).collect(),
-        &mesh.faces,
-    );
+    let mut m = EditMesh::from_mesh(mesh);
     let target_faces = m.face_count();
 
     let tolerance = (opts.flat_tolerance * extent).max(opts.noise_tolerance * planes.rms_off_plane);
@@ -693,10 +690,7 @@ pub fn sharpen_judged(
     report.rounds_kept = round;
     // The kept round's flat regions, straight creases and straight rims without the vertices
     // they do not need (greedy collapses leave some, by cost order and their guards).
-    let mut edit = EditMesh::new(
-        judged.positions.iter().map(|p| p.as_dvec3()).collect(),
-        &judged.faces,
-    );
+    let mut edit = EditMesh::from_mesh(&judged);
     report.redundant_removed =
         remove_redundant_vertices(&mut edit, REDUNDANT_SPACINGS * planes.spacing);
     let (positions, faces, survivors) = edit.compacted();
@@ -1447,10 +1441,7 @@ mod tests {
             .iter()
             .map(|p| p.as_dvec3())
             .collect();
-        let m = EditMesh::new(
-            flat.positions.iter().map(|p| p.as_dvec3()).collect(),
-            &flat.faces,
-        );
+        let m = EditMesh::from_mesh(&flat);
         let coverage = Coverage::new(&m, &points);
         let base = tip as u32 - 1;
         assert!(m.neighbours(tip as u32).contains(&base));
@@ -1524,15 +1515,11 @@ mod tests {
     #[test]
     fn a_finely_split_box_decimates_back_to_a_box() {
         let (_, truth, _, planes) = box_and_planes();
-        let mut e = EditMesh::new(
-            truth.positions.iter().map(|p| p.as_dvec3()).collect(),
-            &truth.faces,
-        );
+        let mut e = EditMesh::from_mesh(&truth);
         e.subdivide();
         e.subdivide();
         e.subdivide();
-        let (p, f, _) = e.compacted();
-        let mut mesh = Mesh::new(p.iter().map(|p| p.as_vec3()).collect(), f);
+        let mut mesh = e.to_mesh();
         let report = sharpen(&mut mesh, &planes, &SharpenOptions::default());
         let cmp = crate::eval::metrics::compare_meshes(&mesh, &truth, &Default::default()).unwrap();
         assert!(report.faces_out <= 24, "{report:?}");
