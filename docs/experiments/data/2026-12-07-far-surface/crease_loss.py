@@ -3,7 +3,9 @@ our sharp-edge samples by their distance to the ground truth's sharp edges (prec
 and the ground truth's by their distance to ours (recall's side), with whether the other
 surface is there; the ground truth's sharp length by dihedral angle and its recall; how our
 sharp edges' ends and midpoints sit on the ground truth's creases; the share of our surface
-far from the input points. Issue 52's definitions: sharp = two faces whose normals differ by
+far from the input points; how often a ground-truth crease found (within 0.01) and one missed
+(0.01-0.04) has another crease within three spacings (0.0089 of the box, the validation
+inputs' median). Issue 52's definitions: sharp = two faces whose normals differ by
 more than 30 degrees, both meshes in the ground truth's [-0.5, 0.5] frame, 0.01 of the box.
     python3 crease_loss.py DIR [MESH] > crease_loss.csv   (needs numpy, scipy, trimesh)
 MESH is the generated mesh's file name after K. (default ours.glb; poisson.ply for Poisson +
@@ -61,7 +63,7 @@ def main(folder, mesh="ours.glb"):
               + [f"gt_len_{lo}" for lo in ANGLES[:-1]] + [f"gt_hit_{lo}" for lo in ANGLES[:-1]]
               + [f"our_len_{lo}" for lo in ANGLES[:-1]]
               + ["len_both_ends_mid_on", "len_both_ends_mid_off", "len_one_end", "len_no_end",
-                 "area_far3", "area_far5"])
+                 "area_far3", "area_far5", "hit_near_other", "miss_near_other"])
     out.writerow(header)
     keys = sorted(glob.glob(os.path.join(folder, "*.gt.glb")), key=lambda p: int(os.path.basename(p).split(".")[0]))
     for g in keys:
@@ -103,12 +105,23 @@ def main(folder, mesh="ours.glb"):
         end_a, end_b = near.query(oa)[0] < 0.01, near.query(ob)[0] < 0.01
         mid = near.query((oa + ob) / 2)[0] < 0.01
         both = end_a & end_b
+        # Whether another crease of the ground truth (off this sample's own line) lies within
+        # three spacings: a crease between faces a few spacings wide.
+        direction = (gb - ga)[gi] / glen[gi][:, None]
+        gtree = cKDTree(gs)
+        near_other = np.zeros(len(gs), bool)
+        for j, found in enumerate(gtree.query_ball_point(gs, 3 * 0.0089)):
+            w = gs[found] - gs[j]
+            near_other[j] = bool((np.linalg.norm(np.cross(w, direction[j]), axis=1) > 0.004).any())
+        hit_mask = dr < 0.01
+        near = [float(near_other[hit_mask].mean()) if hit_mask.any() else "",
+                float(near_other[miss].mean()) if miss.any() else ""]
         out.writerow([k, glen.sum(), olen.sum()] + bands(dp) + [float(((dp >= 0.04) & on_gt).mean())]
                      + bands(dr) + [float(((dr >= 0.04) & (to_ours < 0.01)).mean()),
                                     float(np.median(to_ours[miss])) if miss.any() else ""]
                      + list(gt_len) + [h / c if c else "" for h, c in zip(hit, counts)] + list(our_len)
                      + [olen[both & mid].sum(), olen[both & ~mid].sum(), olen[end_a ^ end_b].sum(),
-                        olen[~end_a & ~end_b].sum()] + area_far)
+                        olen[~end_a & ~end_b].sum()] + area_far + near)
 
 
 if __name__ == "__main__":
