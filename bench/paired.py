@@ -127,6 +127,24 @@ def hard_surface_table(rows, arms, seeds=("0", "2", "3")):
     return ef1
 
 
+def compact_changes(before, after, label):
+    """Prints, for two compacted test-split runs (bench/sharpen_eval/compact.py's per-mesh
+    lists as {name: figures}), how many meshes change (their faces, or their CD beyond the
+    last digits, which two machines round differently) and each figure's paired difference
+    `after` minus `before` (mean ± s.e.) under the heading `label`. Returns the names that
+    change."""
+    changed = [n for n, g in after.items() if n in before and (
+        g["faces"] != before[n]["faces"] or abs(g["cd_x100"] - before[n]["cd_x100"]) > 1e-5)]
+    print(f"\n{label} (paired, mean ± s.e.; {len(changed)} of {len(after)} meshes change)")
+    for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
+        pairs = [(before[n][key], g[key]) for n, g in after.items()
+                 if n in before and before[n][key] is not None and g[key] is not None]
+        m, se = mean_se([b - a for a, b in pairs])
+        print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
+              f"{m:+.4f} ± {se:.4f}")
+    return changed
+
+
 def write_rows(run_path, out):
     """The per-mesh figures of the `meshflow eval generate` JSON at `run_path` as the CSV that
     `load_rows` reads (`name`, then `SURFACE_KEYS`; empty where a mesh got no faces), to the

@@ -8,7 +8,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import finish_paired_plot, hard_surface_table, mean_se  # noqa: E402
+from paired import compact_changes, finish_paired_plot, hard_surface_table  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../..")
@@ -38,16 +38,7 @@ shipped_json = subprocess.run(["git", "-C", root, "show", "98154af:bench/sharpen
                               capture_output=True, text=True, check=True).stdout
 shipped = {m["name"]: m for m in json.loads(shipped_json)["per_mesh"]}
 removed = {m["name"]: m for m in json.load(open(os.path.join(here, "test_removed_sharpened.json")))["per_mesh"]}
-changed = [n for n, g in removed.items() if n in shipped and (
-    g["faces"] != shipped[n]["faces"] or abs(g["cd_x100"] - shipped[n]["cd_x100"]) > 1e-5)]
-print(f"\nTest split, clean: removed against the shipped run (paired, mean ± s.e.; {len(changed)} of "
-      f"{len(removed)} meshes change)")
-for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
-    pairs = [(shipped[n][key], g[key]) for n, g in removed.items()
-             if n in shipped and shipped[n][key] is not None and g[key] is not None]
-    m, se = mean_se([b - a for a, b in pairs])
-    print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
-          f"{m:+.4f} ± {se:.4f}")
+changed = compact_changes(shipped, removed, "Test split, clean: removed against the shipped run")
 
 try:
     import matplotlib

@@ -9,8 +9,8 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../../bench"))
-from paired import (SURFACE_KEYS, arm_row, finish_paired_plot, hard_surface_table, load_rows,  # noqa: E402
-                    mean_se, paired_rows)
+from paired import (SURFACE_KEYS, arm_row, compact_changes, finish_paired_plot, hard_surface_table,  # noqa: E402
+                    load_rows, paired_rows)
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
 # base: 44192db. fringe: every point left out of a region joins the nearest region plane among
@@ -60,18 +60,7 @@ for prefix, label in [("test", "clean"), ("test_noise1", "1% noise"), ("test_mis
                                   capture_output=True, text=True, check=True).stdout
     shipped = {m["name"]: m for m in json.loads(shipped_json)["per_mesh"]}
     gated = {m["name"]: m for m in json.load(open(os.path.join(here, f"{prefix}_gated_sharpened.json")))["per_mesh"]}
-    # A mesh changes when its faces or its CD do (beyond the last digits, which the shipped
-    # runs' Intel Xeon VM and the gated runs' AMD EPYC VM round differently).
-    changed = sum(1 for n, g in gated.items() if n in shipped and (
-        g["faces"] != shipped[n]["faces"] or abs(g["cd_x100"] - shipped[n]["cd_x100"]) > 1e-5))
-    print(f"\nTest split, {label}: gated against the shipped build (paired, mean ± s.e.; {changed} of "
-          f"{len(gated)} meshes change)")
-    for key in ["cd_x100", "nc", "ecd_x100", "ef1", "faces", "holes"]:
-        pairs = [(shipped[n][key], g[key]) for n, g in gated.items()
-                 if n in shipped and shipped[n][key] is not None and g[key] is not None]
-        m, se = mean_se([b - a for a, b in pairs])
-        print(f"{key}: {sum(a for a, _ in pairs) / len(pairs):.4f} -> {sum(b for _, b in pairs) / len(pairs):.4f}, "
-              f"{m:+.4f} ± {se:.4f}")
+    compact_changes(shipped, gated, f"Test split, {label}: gated against the shipped build")
 
 try:
     import matplotlib
