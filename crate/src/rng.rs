@@ -20,6 +20,13 @@ impl Rng {
         self.state
     }
 
+    /// A seed for stream `index` of `seed`: unrelated to `seed + index` and, for all seeds and
+    /// indices a caller would use, to every other pair's (two pairs collide only where
+    /// `seed ^ seed'` equals the XOR of the two indices' mixes, a random-looking 64-bit value).
+    pub fn derived(seed: u64, index: u64) -> u64 {
+        Rng::new(seed ^ Rng::new(index).next_u64()).next_u64()
+    }
+
     pub fn next_u64(&mut self) -> u64 {
         self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
         let mut z = self.state;
@@ -69,6 +76,19 @@ mod tests {
         let mut r = Rng::new(0);
         assert_eq!(r.next_u64(), 0xE220_A839_7B1D_CDAF);
         assert_eq!(r.next_u64(), 0x6E78_9E6A_A1B9_65F4);
+    }
+
+    #[test]
+    fn derived_seeds_of_neighbouring_seeds_do_not_overlap() {
+        // seed + index would give (s, i + 1) and (s + 1, i) the same stream.
+        let mut seen = std::collections::HashSet::new();
+        for seed in 0..64 {
+            for index in 0..64 {
+                assert!(seen.insert(Rng::derived(seed, index)), "{seed}, {index}");
+                assert!(Rng::derived(seed, index) >= 64, "{seed}, {index}");
+            }
+        }
+        assert_eq!(Rng::derived(3, 5), Rng::derived(3, 5));
     }
 
     #[test]

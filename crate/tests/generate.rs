@@ -200,6 +200,26 @@ fn seeds_reproduce_and_batches_match_single_runs() {
         .generate(&inputs[..1], &other_seed, &mut |_, _| true)
         .unwrap();
     assert_ne!(different[0].mesh.positions, single[0].mesh.positions);
+    // With several candidates too, input k of a batch is the input alone at seed + k: its
+    // candidates do not depend on the batch's size (until 2026-12-07 they were seed + k + j n).
+    let three = GenerateOptions {
+        samples: 3,
+        ..options(3)
+    };
+    let batch = generator
+        .generate(&inputs, &three, &mut |_, _| true)
+        .unwrap();
+    let alone = generator
+        .generate(
+            &inputs[1..],
+            &GenerateOptions { seed: 1, ..three },
+            &mut |_, _| true,
+        )
+        .unwrap();
+    assert_eq!(batch[1].mesh.faces, alone[0].mesh.faces);
+    for (p, q) in batch[1].mesh.positions.iter().zip(&alone[0].mesh.positions) {
+        assert!((*p - *q).length() < 1e-4);
+    }
 }
 
 /// A pair head ([`VaeConfig::pair_head`]) takes generation through refined pair distances
@@ -663,13 +683,13 @@ fn more_samples_keep_the_candidate_closest_to_the_input_with_holes_counted() {
         seed: 10,
         ..base.clone()
     });
-    // Candidate j is the one-sample mesh of seed 10 + j; the kept one is among them, with the
-    // smallest score: Chamfer distance of its surface to the input points, times one plus
-    // HOLE_WEIGHT per hole.
+    // Candidate j is the one-sample mesh of candidate_seed(10, j); the kept one is among them,
+    // with the smallest score: Chamfer distance of its surface to the input points, times one
+    // plus HOLE_WEIGHT per hole.
     let singles: Vec<_> = (0..4)
         .map(|j| {
             run(&GenerateOptions {
-                seed: 10 + j,
+                seed: meshflow::pipeline::generate::candidate_seed(10, j),
                 ..base.clone()
             })
         })

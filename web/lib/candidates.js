@@ -1,10 +1,10 @@
 // Candidates drawn side by side on the CPU path: a generation's candidates (`samples`, 12 by
 // default) are independent, so helper workers, each with its own wasm module and copy of the
 // models, draw runs of them while the caller's module draws the first run; the caller's module
-// then keeps the best and sharpens it. Candidate j is seeded by seed + j in whichever run it is
-// drawn, so the mesh is the one a single module (or `meshflow generate`) makes. The path for
-// pages that are not cross-origin isolated: workers need no SharedArrayBuffer, so every host
-// gets them; isolated pages run the threaded module instead (web/lib/index.js).
+// then keeps the best and sharpens it. Candidate j is seeded from the seed and j in whichever
+// run it is drawn, so the mesh is the one a single module (or `meshflow generate`) makes. The
+// path for pages that are not cross-origin isolated: workers need no SharedArrayBuffer, so every
+// host gets them; isolated pages run the threaded module instead (web/lib/index.js).
 
 // Helper workers to start at most (each holds a copy of the models, about 60 MB).
 export const MAX_HELPERS = 3;

@@ -198,9 +198,10 @@ pub struct GenerationEvalReport {
 }
 
 /// Generates from every mesh of `set` (conditioning points: its surface, seeded by its
-/// position in the set, degraded as asked), scores ours, the VAE's reconstruction (extracted
-/// exactly as ours) and the baseline against it, and summarises. `progress` is called with the
-/// meshes done after each batch.
+/// position in the set, degraded as asked; generation seeded by the options' seed plus that
+/// position), scores ours, the VAE's reconstruction (extracted exactly as ours) and the
+/// baseline against it, and summarises. `progress` is called with the meshes done after each
+/// batch.
 pub fn evaluate_generation(
     models: &ShippedModels,
     set: EvalSet,
@@ -249,14 +250,25 @@ pub fn evaluate_generation(
             })
             .collect::<Result<_, _>>()?;
         // Options are per batch: with budgets from the ground truth each mesh samples alone.
+        // Mesh `first + k` is generated at seed `seed + first + k`, as `meshflow generate` on
+        // its points with that seed would (input k of a batch is the input alone at seed + k).
+        let chunk_options = GenerateOptions {
+            seed: eval.options.seed + first as u64,
+            ..eval.options.clone()
+        };
         let generated: Vec<Generated> = match eval.budget {
-            BudgetSource::Rule => generator.generate(&points, &eval.options, &mut |_, _| true)?,
+            BudgetSource::Rule => generator.generate(&points, &chunk_options, &mut |_, _| true)?,
             _ => chunk
                 .iter()
                 .zip(&points)
-                .map(|((_, m), p)| {
+                .enumerate()
+                .map(|(k, ((_, m), p))| {
+                    let options = GenerateOptions {
+                        seed: chunk_options.seed + k as u64,
+                        ..options_for(m)
+                    };
                     generator
-                        .generate(std::slice::from_ref(p), &options_for(m), &mut |_, _| true)
+                        .generate(std::slice::from_ref(p), &options, &mut |_, _| true)
                         .map(|mut g| g.remove(0))
                 })
                 .collect::<Result<_, _>>()?,

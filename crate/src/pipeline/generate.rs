@@ -132,9 +132,10 @@ pub struct GenerateOptions {
     pub seed: u64,
     /// Candidates drawn per input, each from its own noise; the one kept lies closest to the
     /// input points, each hole counting against it ([`keep_best`]). 1 draws one (candidate `j`
-    /// of input `k` of `n` is seeded by `seed + k + j * n`, so the first is the one-sample
-    /// mesh). Default 12: the holes target of issue 15 needs about that many (8 leave 1.5 holes
-    /// a mesh on the test split, 12 leave 1.3).
+    /// of input `k` is seeded by [`candidate_seed`]`(seed + k, j)`, so the first is the
+    /// one-sample mesh, and an input's candidates depend neither on the rest of its batch nor
+    /// on the candidates of the next seed). Default 12: the holes target of issue 15 needs
+    /// about that many (8 leave 1.5 holes a mesh on the test split, 12 leave 1.3).
     pub samples: usize,
     pub schedule: ScheduleMode,
     /// How each step integrates the flow: Euler (one DiT evaluation a step, as the paper) or
@@ -368,6 +369,18 @@ pub enum HostEdges {
     Distances(Vec<f32>),
 }
 
+/// The seed of candidate `j` of an input seeded by `seed`: `seed` itself for the first, so that
+/// one sample is the first candidate, and one derived from both for the others. Until
+/// 2026-12-07 candidate `j` took `seed + j`, so neighbouring seeds shared 11 of their 12
+/// candidates: `meshflow generate --seed 2` to `--seed 9` gave the box the same mesh.
+pub fn candidate_seed(seed: u64, j: usize) -> u64 {
+    if j == 0 {
+        seed
+    } else {
+        Rng::derived(seed, j as u64)
+    }
+}
+
 /// The slots of each of the `rows` rows of `[rows, n]` mask logits that the mask keeps (logit
 /// > 0): the vertices a pair head picks its candidates among.
 pub fn kept_slots(mask_logits: &[f32], n: usize) -> Vec<Vec<u32>> {
@@ -409,8 +422,11 @@ impl Generator<'_> {
             let expanded: Vec<Vec<Vec3>> = (0..opts.samples)
                 .flat_map(|_| inputs.iter().cloned())
                 .collect();
+            let seeds: Vec<u64> = (0..opts.samples)
+                .flat_map(|j| (0..n).map(move |k| candidate_seed(opts.seed + k as u64, j)))
+                .collect();
             let mut all: Vec<Option<Generated>> = self
-                .generate(&expanded, &one, on_step)?
+                .generate_seeded(&expanded, &seeds, &one, on_step)?
                 .into_iter()
                 .map(Some)
                 .collect();
@@ -424,6 +440,18 @@ impl Generator<'_> {
             return Ok(keep_sharpened_all(candidates, inputs, opts));
         }
         let seeds: Vec<u64> = (0..inputs.len()).map(|k| opts.seed + k as u64).collect();
+        self.generate_seeded(inputs, &seeds, opts, on_step)
+    }
+
+    /// [`Self::generate`] with one candidate (`opts.samples` is not read), input `k` seeded by
+    /// `seeds[k]`.
+    fn generate_seeded(
+        &self,
+        inputs: &[Vec<Vec3>],
+        seeds: &[u64],
+        opts: &GenerateOptions,
+        on_step: &mut dyn FnMut(usize, usize) -> bool,
+    ) -> Result<Vec<Generated>, GenerateError> {
         let conditioned = self.condition_all(inputs, opts)?;
         let slots: Vec<usize> = conditioned
             .iter()
@@ -433,7 +461,7 @@ impl Generator<'_> {
         lengths.sort_unstable();
         lengths.dedup();
         if lengths.len() == 1 {
-            let out = self.generate_batch(conditioned, &seeds, opts, on_step)?;
+            let out = self.generate_batch(conditioned, seeds, opts, on_step)?;
             return Ok(keep_sharpened_all(
                 out.into_iter().map(|g| vec![g]).collect(),
                 inputs,
@@ -593,9 +621,9 @@ impl Generator<'_> {
     /// Stage 1: checks the models fit together, conditions every input (model frame, budget,
     /// RoPE positions) and draws the noise (input `k` seeded by `seed + k`). No input at all
     /// is [`GenerateError::NoPoints`]. With length buckets the batch takes the bucket of its
-    /// largest budget; [`Self::generate`] splits batches by bucket first. For
-    /// `opts.samples` candidates of one input, pass it that many times and keep one with
-    /// [`keep_sharpened`] after [`Self::extract`], as [`Self::generate`] does.
+    /// largest budget; [`Self::generate`] splits batches by bucket first. For the
+    /// `opts.samples` candidates of one input that [`Self::generate`] draws, use
+    /// [`Self::prepare_runs`] and keep one with [`keep_sharpened`] after [`Self::extract`].
     pub fn prepare(
         &self,
         inputs: &[Vec<Vec3>],
@@ -609,7 +637,8 @@ impl Generator<'_> {
     }
 
     /// [`Self::prepare`] for the candidates of one input drawn in runs, run `(first, count)` a
-    /// batch of its own whose row `k` is seeded by `opts.seed + first + k`: the input is
+    /// batch of its own whose row `k` is candidate `first + k`, seeded by
+    /// [`candidate_seed`]`(opts.seed, first + k)` as in [`Self::generate`]: the input is
     /// conditioned once for every run, and the runs are prepared side by side where there are
     /// threads.
     pub fn prepare_runs(
@@ -633,7 +662,9 @@ impl Generator<'_> {
                     ..conditioned.clone()
                 })
                 .collect();
-            let seeds: Vec<u64> = (0..count).map(|k| opts.seed + (first + k) as u64).collect();
+            let seeds: Vec<u64> = (0..count)
+                .map(|k| candidate_seed(opts.seed, first + k))
+                .collect();
             self.prepare_conditioned(rows, &seeds)
         });
         prepared.into_iter().collect()
@@ -1353,6 +1384,20 @@ mod tests {
         let topology = TopologyReport::of(&holed);
         assert_eq!(topology.holes, 1);
         (holed, topology, points)
+    }
+
+    #[test]
+    fn the_candidates_of_nearby_seeds_and_inputs_are_seeded_apart() {
+        // Input k of a batch is seeded by seed + k, so the candidates of every (seed + k, j)
+        // a batch or a seed sweep can reach must differ; the first is the seed itself.
+        let mut seen = std::collections::HashSet::new();
+        for seed in 0..32u64 {
+            assert_eq!(candidate_seed(seed, 0), seed);
+            for j in 1..16 {
+                let s = candidate_seed(seed, j);
+                assert!(s >= 32 && seen.insert(s), "seed {seed}, candidate {j}");
+            }
+        }
     }
 
     #[test]

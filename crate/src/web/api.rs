@@ -242,9 +242,9 @@ impl MeshFlow {
     /// Candidates `first..first + count` of [`Self::generate`]'s `options.samples` for
     /// `points`, unsharpened, as bytes for [`Self::keep_candidates`]: several workers, each
     /// with its own module, draw runs of them side by side. Candidate `j` is seeded by
-    /// `seed + j` in whichever run it is drawn, and a batch's rows do not depend on each other
-    /// (crate/tests/candidate_split.rs), so the runs together are the candidates that
-    /// [`Self::generate`] draws at once.
+    /// `candidate_seed(seed, j)` in whichever run it is drawn, and a batch's rows do not
+    /// depend on each other (crate/tests/candidate_split.rs), so the runs together are the
+    /// candidates that [`Self::generate`] draws at once.
     ///
     /// In the CPU module only (the WebGPU module's one device draws every candidate).
     #[cfg(feature = "cpu")]
@@ -304,11 +304,11 @@ impl MeshFlow {
         Ok(GeneratedMesh::kept(candidates, &points, &opts))
     }
 
-    /// Candidates `first..first + count` of `opts.samples`, one batch row each, seeded by
-    /// `opts.seed + first + row`: stages 1 to 5 with asynchronous readback. In the threaded
-    /// module the rows are drawn in one run per thread, the runs' sampler steps side by side
-    /// (as `meshflow generate` draws them natively); rows do not depend on their batch, so the
-    /// candidates are the same.
+    /// Candidates `first..first + count` of `opts.samples`, one batch row each, seeded as
+    /// [`Generator::generate`] seeds them (`candidate_seed(opts.seed, first + row)`): stages 1
+    /// to 5 with asynchronous readback. In the threaded module the rows are drawn in one run
+    /// per thread, the runs' sampler steps side by side (as `meshflow generate` draws them
+    /// natively); rows do not depend on their batch, so the candidates are the same.
     async fn candidates(
         &self,
         points: &[Vec3],
@@ -318,11 +318,10 @@ impl MeshFlow {
         on_step: Option<js_sys::Function>,
     ) -> Result<Vec<Generated>, JsError> {
         let generator = self.generator();
-        // Each run as a batch of its own: its rows seeded by seed + their candidate index.
+        // Each run as a batch of its own: its rows seeded by their candidate index.
         let first_counts = candidate_runs(first, count);
         let runs: Vec<GenerateOptions> = (first_counts.iter())
-            .map(|&(run_first, run_count)| GenerateOptions {
-                seed: opts.seed + run_first as u64,
+            .map(|&(_, run_count)| GenerateOptions {
                 samples: run_count,
                 ..opts.clone()
             })
