@@ -7,7 +7,6 @@ import json
 import os
 import subprocess
 import sys
-from collections import defaultdict
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
 from paired import compact_changes, diff_cells, load_rows, mean_cells, mean_se, SURFACE_KEYS  # noqa: E402
@@ -113,8 +112,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 fig, axes = plt.subplots(1, 2, figsize=(11, 4))
-colours = defaultdict(lambda: None)
-for i, shape in enumerate(shapes):
+for shape in shapes:
     rs = sorted((r for r in cli if r["shape"] == shape), key=lambda r: int(r["seed"]))
     seeds = [int(r["seed"]) for r in rs]
     line, = axes[0].plot(seeds, [int(r["new_faces"]) for r in rs], "o-", label=f"{shape}, new")
