@@ -119,9 +119,10 @@ fn generated_meshes_are_valid_and_reported() {
     }
     assert!(g.times.sample_s > 0.0 && g.times.decode_s > 0.0);
     // The budget sets the tokens; the decoder's mask picks which of their vertex slots (the
-    // budget's length bucket) are real, so the unsharpened mesh holds at most those, plus one
-    // for each hole closed by a fan (sharpening's splits and collapses rebuild the
-    // connectivity, so its vertex count has no such bound).
+    // budget's length bucket) are real, so the unsharpened mesh holds at most those, plus the
+    // vertices completion seeded where the input goes on without them and one for each hole
+    // closed by a fan (sharpening's splits and collapses rebuild the connectivity, so its
+    // vertex count has no such bound).
     let unsharpened = GenerateOptions {
         sharpen: meshflow::surface::sharpen::SharpenOptions {
             enabled: false,
@@ -138,7 +139,8 @@ fn generated_meshes_are_valid_and_reported() {
         )
         .unwrap()[0];
     assert!(u.extract.input_vertices >= u.vertex_budget);
-    assert!(u.mesh.positions.len() <= u.extract.input_vertices + u.close.vertices_added);
+    let added = u.complete.seeded + u.close.vertices_added;
+    assert!(u.mesh.positions.len() <= u.extract.input_vertices + added);
 }
 
 #[test]

@@ -41,7 +41,7 @@ use crate::parallel::map_in_parallel;
 use crate::pipeline::budget::{BudgetRule, DEFAULT_RULE, ShapeFeatures, shape_features};
 use crate::rng::Rng;
 use crate::surface::close::{CloseOptions, CloseReport, close_holes};
-use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface};
+use crate::surface::complete::{CompleteOptions, CompleteReport, complete_surface, seed_uncovered};
 use crate::surface::fit::{FitOptions, FitReport, fit_to_points};
 use crate::surface::input::InputPoints;
 use crate::surface::sharpen::{PointPlanes, SharpenOptions, SharpenReport, sharpen_judged};
@@ -1014,6 +1014,36 @@ pub fn candidate_extraction(opts: &GenerateOptions) -> ExtractOptions {
     }
 }
 
+/// Completion once more, without welding (the first completion welded the decoder's
+/// near-duplicates; the vertices since are apart on purpose).
+fn complete_again(mesh: &Mesh, c: &Conditioned, opts: &GenerateOptions) -> Mesh {
+    let again = CompleteOptions {
+        weld_ratio: 0.0,
+        ..opts.complete
+    };
+    complete_surface(
+        mesh,
+        &c.model_input,
+        &again,
+        &opts.extract.manifold_options(),
+    )
+    .0
+}
+
+/// Refinement of a completed mesh: the completed faces now hold the fit's fold test, so
+/// vertices the model's sparse faces held back can reach the surface, and the completed
+/// faces compete with the candidates around the moved vertices.
+fn refine_completion(mesh: &mut Mesh, c: &Conditioned, opts: &GenerateOptions) {
+    for _ in 0..opts.complete.refine_passes {
+        let refit = FitOptions {
+            smoothing: opts.complete.refine_smoothing,
+            ..opts.fit
+        };
+        fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_input, &refit);
+        *mesh = complete_again(mesh, c, opts);
+    }
+}
+
 /// Extraction, fitting, completion and closing of one decoded row (stages 4 and 5).
 fn finish_one(
     decoded: &DecodedVertices<'_>,
@@ -1033,25 +1063,14 @@ fn finish_one(
             &opts.complete,
             &opts.extract.manifold_options(),
         );
-        // Refinement: the completed faces now hold the fit's fold test, so vertices
-        // the model's sparse faces held back can reach the surface, and the completed
-        // faces compete with the candidates around the moved vertices.
-        for _ in 0..opts.complete.refine_passes {
-            let refit = FitOptions {
-                smoothing: opts.complete.refine_smoothing,
-                ..opts.fit
-            };
-            fit_to_points(&mut mesh.positions, &mesh.faces, &c.model_input, &refit);
-            let again = CompleteOptions {
-                weld_ratio: 0.0,
-                ..opts.complete
-            };
-            (mesh, _) = complete_surface(
-                &mesh,
-                &c.model_input,
-                &again,
-                &opts.extract.manifold_options(),
-            );
+        refine_completion(&mut mesh, c, opts);
+        // With `seed_gap` (off by default): where the model left out a part the input has (a
+        // leg, a pole, the far side of a slab), vertices at the input points there, completed
+        // and refined like the rest (docs/experiments/2026-12-07-seed-uncovered.md).
+        complete.seeded = seed_uncovered(&mut mesh, &c.model_input, opts.complete.seed_gap);
+        if complete.seeded > 0 {
+            mesh = complete_again(&mesh, c, opts);
+            refine_completion(&mut mesh, c, opts);
         }
     }
     let mut close = CloseReport::default();
