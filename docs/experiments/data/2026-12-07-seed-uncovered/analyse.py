@@ -8,7 +8,8 @@ import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "..", "..", "..", "bench"))
-from paired import SURFACE_KEYS, arm_row, finish_paired_plot, load_rows, paired_rows  # noqa: E402
+from paired import (SURFACE_KEYS, arm_row, diff_cells, finish_paired_plot, load_rows, mean_of,  # noqa: E402
+                    paired_rows)
 
 ARMS = ["base", "s07", "s10", "s07p2", "s10p2", "s07p4", "s07p2k", "sp2", "shipped_option"]
 rows = {arm: load_rows(os.path.join(here, f"val80_{arm}.per_mesh.csv"), SURFACE_KEYS) for arm in ARMS}
@@ -59,3 +60,19 @@ for arm in ARMS[1:]:
 ax.legend(fontsize=8)
 finish_paired_plot(fig, ax, "faces a mesh, change from base", "CD x100, change from base",
                    "Seeding the uncovered input, 80 validation meshes", os.path.join(here, "seed_uncovered.png"))
+
+# 3. The test split with the option (`meshflow eval generate --split test --complete-seed-gap
+# 0.7`, per mesh in test_option.per_mesh.csv), paired against the shipped run without it
+# (bench/sharpen_eval/test_sharpened.json); ECD over the meshes with sharp edges in both.
+import json  # noqa: E402
+
+shipped_json = os.path.join(here, "..", "..", "..", "..", "bench", "sharpen_eval", "test_sharpened.json")
+names = {"cd_x100": "cd", "nc": "nc", "ecd_x100": "ecd", "ef1": "ef1", "faces": "faces", "holes": "holes"}
+shipped = {m["name"]: {names[k]: m[k] for k in names} for m in json.load(open(shipped_json))["per_mesh"]}
+option = load_rows(os.path.join(here, "test_option.per_mesh.csv"), SURFACE_KEYS)
+print()
+print("| test split (244) | CD x100 | NC | ECD x100 | EF1 | faces | holes |")
+print("|---|---:|---:|---:|---:|---:|---:|")
+print("| shipped | " + " | ".join(f"{mean_of(shipped, k):.4g}" for k in SURFACE_KEYS) + " |")
+print("| --complete-seed-gap 0.7 | " + " | ".join(f"{mean_of(option, k):.4g}" for k in SURFACE_KEYS) + " |")
+print("| paired difference | " + " | ".join(diff_cells(option, shipped, SURFACE_KEYS)) + " |")
