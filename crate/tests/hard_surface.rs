@@ -246,16 +246,7 @@ fn assert_manifold_unfolded(g: &meshflow::pipeline::generate::Generated) {
 
 /// The share of `points` farther than two of their spacings from `mesh`'s faces.
 fn uncovered_share(mesh: &Mesh, points: &[glam::Vec3]) -> f64 {
-    use meshflow::geometry::triangle::{Bound, nearest_triangle};
     let far = 2.0 * f64::from(meshflow::geometry::nearest::PointIndex::new(points).spacing());
-    let faces: Vec<(usize, ([glam::DVec3; 3], Bound))> = (mesh.faces.iter().enumerate())
-        .map(|(i, f)| {
-            let t = f.map(|v| mesh.positions[v as usize].as_dvec3());
-            (i, (t, Bound::around(t)))
-        })
-        .collect();
-    let missed = (points.iter())
-        .filter(|p| nearest_triangle(p.as_dvec3(), &faces, None).is_none_or(|(d, _)| d > far))
-        .count();
-    missed as f64 / points.len() as f64
+    let distances = meshflow::geometry::triangle::distances_to_faces(mesh, points.iter().copied());
+    distances.iter().filter(|&&d| d > far).count() as f64 / points.len() as f64
 }

@@ -2,7 +2,9 @@
 
 use std::borrow::Borrow;
 
-use glam::DVec3;
+use glam::{DVec3, Vec3};
+
+use crate::Mesh;
 
 /// Distance from `x` to the triangle `[a, b, c]` (its closest point, interior, edge or corner).
 pub fn point_triangle_distance(x: DVec3, t: [DVec3; 3]) -> f64 {
@@ -112,6 +114,26 @@ pub fn nearest_triangle<T: Copy, B: Borrow<([DVec3; 3], Bound)>>(
     best.map(|(d, i)| (d, triangles[i].0))
 }
 
+/// Each of `points`' distance to the nearest face of `mesh` (infinite where it has none), by
+/// [`nearest_triangle`] over all its faces, each point's search starting from the last point's
+/// nearest face (near points in a row, as a k-d tree's order gives them, cost the least).
+pub fn distances_to_faces(mesh: &Mesh, points: impl IntoIterator<Item = Vec3>) -> Vec<f64> {
+    let faces: Vec<(usize, ([DVec3; 3], Bound))> = (mesh.faces.iter().enumerate())
+        .map(|(i, f)| {
+            let t = f.map(|v| mesh.positions[v as usize].as_dvec3());
+            (i, (t, Bound::around(t)))
+        })
+        .collect();
+    let mut guess = None;
+    (points.into_iter())
+        .map(|p| {
+            let nearest = nearest_triangle(p.as_dvec3(), &faces, guess);
+            guess = nearest.map(|(_, f)| f);
+            nearest.map_or(f64::INFINITY, |(d, _)| d)
+        })
+        .collect()
+}
+
 /// The point of the triangle `[a, b, c]` closest to `x`, and its barycentric weights (after
 /// Ericson, "Real-Time Collision Detection", 5.1.5).
 fn closest_point(x: DVec3, [a, b, c]: [DVec3; 3]) -> (DVec3, [f64; 3]) {
@@ -154,6 +176,31 @@ fn closest_point(x: DVec3, [a, b, c]: [DVec3; 3]) -> (DVec3, [f64; 3]) {
 mod tests {
     use super::*;
     use crate::rng::Rng;
+
+    #[test]
+    fn distances_to_faces_of_a_square_and_of_no_faces() {
+        // The unit square at z = 0 in two triangles.
+        let square = Mesh::new(
+            vec![Vec3::ZERO, Vec3::X, Vec3::new(1.0, 1.0, 0.0), Vec3::Y],
+            vec![[0, 1, 2], [0, 2, 3]],
+        );
+        let points = [
+            Vec3::new(0.25, 0.75, 0.5),
+            Vec3::new(0.75, 0.25, -2.0),
+            Vec3::new(2.0, 0.5, 0.0),
+            Vec3::new(-3.0, -4.0, 0.0),
+        ];
+        let d = distances_to_faces(&square, points);
+        for (got, want) in d.iter().zip([0.5, 2.0, 1.0, 5.0]) {
+            assert!((got - want).abs() < 1e-6, "{d:?}");
+        }
+        let none = Mesh::new(square.positions.clone(), vec![]);
+        assert!(
+            distances_to_faces(&none, points)
+                .iter()
+                .all(|d| d.is_infinite())
+        );
+    }
 
     #[test]
     fn point_triangle_distance_regions() {

@@ -76,7 +76,7 @@ use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::plane_fit::least_spread_direction;
 use crate::geometry::topology::sorted_face;
-use crate::geometry::triangle::{Bound, nearest_triangle};
+use crate::geometry::triangle::distances_to_faces;
 use crate::surface::input::InputPoints;
 
 /// Options of [`complete_surface`] (missing JSON fields take the defaults).
@@ -337,23 +337,14 @@ pub fn seed_uncovered(mesh: &mut Mesh, points: &InputPoints, gap_ratio: f32) -> 
     };
     let gap = gap_ratio * edge;
     let far = f64::from((UNCOVERED_SPACINGS * points.spacing()).max(UNCOVERED_EDGES * edge));
-    let triangles: Vec<(u32, ([DVec3; 3], Bound))> = (mesh.faces.iter().enumerate())
-        .map(|(f, face)| {
-            let t = face.map(|v| mesh.positions[v as usize].as_dvec3());
-            (f as u32, (t, Bound::around(t)))
-        })
-        .collect();
+    let distances = distances_to_faces(mesh, index.iter().map(|(_, p)| p));
     let mut taken: Vec<Vec3> = Vec::new();
     // A grid of cells `gap` wide: a point taken within `gap` of another lies in a
     // neighbouring cell.
     let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::default();
     let cell = |p: Vec3| (p / gap).floor().as_ivec3().to_array();
-    // The index's order keeps near points together, so the last nearest face is a good guess.
-    let mut guess = None;
-    for (_, p) in index.iter() {
-        let nearest = nearest_triangle(p.as_dvec3(), &triangles, guess);
-        guess = nearest.map(|(_, f)| f as usize);
-        if nearest.is_some_and(|(d, _)| d <= far) {
+    for ((_, p), d) in index.iter().zip(distances) {
+        if d <= far {
             continue;
         }
         let [x, y, z] = cell(p);
