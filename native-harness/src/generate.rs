@@ -146,9 +146,10 @@ pub struct SamplingArgs {
     /// Completion: also offer triangles no vertex's local Delaunay triangulation has.
     #[arg(long)]
     complete_unvoted: bool,
-    /// Completion: add vertices at the input points the surface misses, no two closer than
-    /// this many median edges, and complete again, so that a part the model left out (a leg,
-    /// a pole) is covered; 0.7 measured: nearer and sharper, more faces and holes (0 = none).
+    /// Completion: add vertices at the input points the surface misses (where at least 1/32
+    /// of the input is missed together), no two closer than this many median edges, and
+    /// complete again, so that a part the model left out (a leg, a pole) is covered; 0.7
+    /// measured: nearer and sharper, a few more faces and holes (0 = none).
     #[arg(long, default_value_t = CompleteOptions::default().seed_gap)]
     complete_seed_gap: f32,
     /// Completion: nearest vertices each vertex may make a new face with.

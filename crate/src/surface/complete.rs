@@ -51,12 +51,13 @@
 //! 7. **Seed what the model left out** (off by default: `seed_gap`). Completion only joins
 //!    vertices the model made: where it made none (a table leg, a pole, the far side of a
 //!    slab it drew as one sheet), the input has points and the mesh has nothing.
-//!    [`seed_uncovered`] puts a vertex at input points the refined surface misses, no two
-//!    closer than `seed_gap` median edges, and generation completes and refines once more, so
-//!    those vertices join the surface like the model's own (first 80 validation meshes, 0.7
-//!    against none: CD x100 -0.49, NC +0.018, EF1 +0.034, at 22% more faces and 1.2 more holes
-//!    a mesh, the rims of the parts it brings back;
-//!    docs/experiments/2026-12-07-seed-uncovered.md).
+//!    [`seed_uncovered`] puts a vertex at input points the refined surface misses, in
+//!    clusters of at least [`MIN_UNCOVERED_CLUSTER`] of the input, no two closer than
+//!    `seed_gap` median edges, and generation completes and refines once more, so those
+//!    vertices join the surface like the model's own (first 80 validation meshes, 0.7 against
+//!    none: CD x100 -0.41, NC +0.017, EF1 +0.041, at 7% more faces and 0.35 more holes a
+//!    mesh, the rims of the parts it brings back; docs/experiments/2026-12-07-seed-uncovered.md
+//!    and 2026-12-07-seed-clusters.md).
 //!
 //! Cost: a k-nearest search and a local Delaunay test (k^3) per vertex, and per candidate a
 //! few nearest-point queries; tens of milliseconds at 512 vertices. Seeding measures each
@@ -71,7 +72,7 @@ use serde::{Deserialize, Serialize};
 use crate::Mesh;
 use crate::extract::manifold::{ManifoldOptions, ManifoldReport, manifold_faces};
 use crate::extract::orient_face;
-use crate::geometry::clean::weld;
+use crate::geometry::clean::{weld, weld_map};
 use crate::geometry::nearest::PointIndex;
 use crate::geometry::normals::vertex_normals;
 use crate::geometry::plane_fit::least_spread_direction;
@@ -320,11 +321,22 @@ pub const UNCOVERED_SPACINGS: f32 = 2.0;
 /// alone, the noisy 12-sided cylinder took 72 seeds and ended with 488 faces for 44).
 pub const UNCOVERED_EDGES: f32 = 0.5;
 
+/// Fewest uncovered input points, as a share of the input, that [`seed_uncovered`] seeds
+/// among: a cluster of missed points linked within the seed gap must hold this many. A
+/// handful of stray points, or a sliver of a thin wall's far side, becomes a small open
+/// patch, a hole for little distance gained (first 80 validation meshes at a seed gap of 0.7,
+/// against no seeding: every cluster seeded, CD x100 -0.49 for +1.21 holes a mesh; 1/32,
+/// -0.41 for +0.35; 1/16, -0.34 for +0.16; 8 seeds a cluster at the fewest, -0.38 for +0.48;
+/// docs/experiments/2026-12-07-seed-clusters.md).
+pub const MIN_UNCOVERED_CLUSTER: f32 = 1.0 / 32.0;
+
 /// Adds a vertex at input points that `mesh`'s surface does not come within
 /// [`UNCOVERED_SPACINGS`] point spacings (or [`UNCOVERED_EDGES`] median edges, whichever is
 /// larger) of, no two closer than `gap_ratio` median edges of its faces, for completion to
-/// connect to the surface around them (module documentation, step 7). The points are taken
-/// in the index's order, each where no point taken so far is that near. A new vertex's normal, where the mesh has normals, is the plane normal of its
+/// connect to the surface around them (module documentation, step 7). Only clusters of such
+/// points (linked within that gap) holding at least [`MIN_UNCOVERED_CLUSTER`] of the input
+/// are seeded. The points are taken in the index's order, each where no point taken so far is
+/// that near. A new vertex's normal, where the mesh has normals, is the plane normal of its
 /// 16 nearest input points, turned to agree with the nearest vertex's. Returns how many were
 /// added; none with fewer than 16 finite points, no face or no positive gap.
 pub fn seed_uncovered(mesh: &mut Mesh, points: &InputPoints, gap_ratio: f32) -> usize {
@@ -337,14 +349,21 @@ pub fn seed_uncovered(mesh: &mut Mesh, points: &InputPoints, gap_ratio: f32) -> 
     };
     let gap = gap_ratio * edge;
     let far = f64::from((UNCOVERED_SPACINGS * points.spacing()).max(UNCOVERED_EDGES * edge));
-    let distances = distances_to_faces(mesh, index.iter().map(|(_, p)| p));
+    let uncovered = uncovered_points(mesh, points, far);
+    // Clusters of missed points: single linkage within the gap, what welding computes.
+    let (cluster, clusters) = weld_map(&uncovered, gap);
+    let mut size = vec![0usize; clusters];
+    for &c in &cluster {
+        size[c as usize] += 1;
+    }
+    let fewest = (MIN_UNCOVERED_CLUSTER * index.len() as f32).ceil() as usize;
     let mut taken: Vec<Vec3> = Vec::new();
     // A grid of cells `gap` wide: a point taken within `gap` of another lies in a
     // neighbouring cell.
     let mut cells: HashMap<[i32; 3], Vec<u32>> = HashMap::default();
     let cell = |p: Vec3| (p / gap).floor().as_ivec3().to_array();
-    for ((_, p), d) in index.iter().zip(distances) {
-        if d <= far {
+    for (&p, &c) in uncovered.iter().zip(&cluster) {
+        if size[c as usize] < fewest {
             continue;
         }
         let [x, y, z] = cell(p);
@@ -374,6 +393,16 @@ pub fn seed_uncovered(mesh: &mut Mesh, points: &InputPoints, gap_ratio: f32) -> 
     }
     mesh.positions.extend_from_slice(&taken);
     taken.len()
+}
+
+/// The input points farther than `far` from `mesh`'s faces.
+fn uncovered_points(mesh: &Mesh, points: &InputPoints, far: f64) -> Vec<Vec3> {
+    let index = points.index();
+    let distances = distances_to_faces(mesh, index.iter().map(|(_, p)| p));
+    (index.iter().zip(distances))
+        .filter(|&(_, d)| d > far)
+        .map(|((_, p), _)| p)
+        .collect()
 }
 
 /// For each triangle, how many of its vertices have it in their local Delaunay triangulation:
@@ -665,6 +694,33 @@ mod tests {
             seed_uncovered(&mut mesh, &InputPoints::new(&points[..8]), 0.7),
             0
         );
+    }
+
+    #[test]
+    fn a_handful_of_stray_points_gets_no_seeds_and_a_part_does() {
+        // The half's own points, and beside them, 0.6 above the plane, a stray patch of 4 x 4
+        // points: under 1/32 of the input, so no seeds.
+        let half: Vec<Vec3> = (plane_points().into_iter())
+            .filter(|p| p.x <= 0.0 && p.x >= -0.8 && p.y.abs() <= 0.8)
+            .collect();
+        let patch = |side: usize| -> Vec<Vec3> {
+            (0..side * side)
+                .map(|k| Vec3::new((k % side) as f32 * 0.05, (k / side) as f32 * 0.05, 0.6))
+                .collect()
+        };
+        let mut points = half.clone();
+        points.extend(patch(4));
+        let mut mesh = left_half();
+        assert_eq!(
+            seed_uncovered(&mut mesh, &InputPoints::new(&points), 0.7),
+            0
+        );
+        // A patch of 20 x 20 (a ninth of the input) is a part: it gets seeds, all on it.
+        let mut points = half;
+        points.extend(patch(20));
+        let seeded = seed_uncovered(&mut mesh, &InputPoints::new(&points), 0.7);
+        assert!(seeded > 4, "{seeded}");
+        assert!(mesh.positions[25..].iter().all(|p| p.z == 0.6));
     }
 
     #[test]
