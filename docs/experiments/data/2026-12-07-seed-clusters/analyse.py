@@ -22,6 +22,7 @@ ARMS = {
     "k3": "at least 3 seeds", "k5": "at least 5 seeds", "k8": "at least 8 seeds",
     "shipped": "at least 1/32 of the input, linked within the gap (shipped)",
     "guard": "shipped, and dropped where it covers less",
+    "drop_over": "shipped, less the faces off the input within 2 median edges of a seed",
 }
 rows = {arm: load_rows(os.path.join(here, f"val80_{arm}.per_mesh.csv"), SURFACE_KEYS) for arm in ARMS}
 gt = {r["name"]: float(r["gt_faces"]) for r in csv.DictReader(open(os.path.join(here, "val80_gt_faces.csv")))}
@@ -54,6 +55,17 @@ for inp in ["clean", "noise1"]:
             "{:+.3f} ± {:.3f}".format(*mean_se([float(r[k]) - float(off[(r["seed"], r["shape"])][k]) for r in rs]))
             for k in ["cd", "ef1", "holes"]]
         print(f"| {inp} | {arm} | {holes:.2f} | " + " | ".join(diffs or ["", "", ""]) + " |")
+
+# The drop-over arm, clean only, against the shipped rule (paired by shape and seed).
+shipped_clean = {(r["seed"], r["shape"]): r for r in hs if r["arm"] == "clusters" and r["input"] == "clean"}
+drop = [r for r in hs if r["arm"] == "drop_over"]
+print()
+print("| clean | arm | CD x100 | NC | EF1 | faces / gt | holes |")
+print("|---|---|---:|---:|---:|---:|---:|")
+for arm, rs in [("clusters", list(shipped_clean.values())), ("drop_over", drop)]:
+    m = {k: sum(float(r[k]) for r in rs) / len(rs) for k in ["cd", "nc", "ef1", "holes"]}
+    ratio = sum(float(r["faces"]) / float(r["gt_faces"]) for r in rs) / len(rs)
+    print(f"| clean | {arm} | {m['cd']:.3f} | {m['nc']:.3f} | {m['ef1']:.3f} | {ratio:.2f}x | {m['holes']:.2f} |")
 
 # 3. The test split: the shipped rule, paired against the shipped pipeline without seeding
 # (bench/sharpen_eval/test_sharpened.json) and against every cluster seeded
