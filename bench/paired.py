@@ -47,6 +47,18 @@ def paired_rows(a, b, key):
                     if n in b and a[n][key] is not None and b[n][key] is not None])
 
 
+def load_gt_faces(path):
+    """An experiment's `*_gt_faces.csv` (`name`, `gt_faces`) as {name: ground-truth faces}."""
+    with open(path) as f:
+        return {r["name"]: float(r["gt_faces"]) for r in csv.DictReader(f)}
+
+
+def faces_per_gt(rows, gt):
+    """Our faces per ground-truth face over rows of `load_rows`: the mean of the meshes' ratios,
+    as BENCHMARKS.md gives it (`gt` from `load_gt_faces`)."""
+    return sum(r["faces"] / gt[n] for n, r in rows.items()) / len(rows)
+
+
 # The surface figures an experiment's per-mesh CSV carries, in the order its tables print them.
 SURFACE_KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
 

@@ -10,8 +10,8 @@ import sys
 here = os.path.dirname(os.path.abspath(__file__))
 bench = os.path.join(here, "..", "..", "..", "..", "bench")
 sys.path.insert(0, bench)
-from paired import (SURFACE_KEYS, arm_row, diff_cells, finish_paired_plot, hard_surface_table,  # noqa: E402
-                    load_rows, mean_of, mean_se, paired_rows)
+from paired import (SURFACE_KEYS, arm_row, diff_cells, faces_per_gt, finish_paired_plot,  # noqa: E402
+                    hard_surface_table, load_gt_faces, load_rows, mean_of, mean_se, paired_rows)
 
 # arm: (the rule, the per-mesh CSV's name)
 ARMS = {
@@ -25,7 +25,7 @@ ARMS = {
     "drop_over": "shipped, less the faces off the input within 2 median edges of a seed",
 }
 rows = {arm: load_rows(os.path.join(here, f"val80_{arm}.per_mesh.csv"), SURFACE_KEYS) for arm in ARMS}
-gt = {r["name"]: float(r["gt_faces"]) for r in csv.DictReader(open(os.path.join(here, "val80_gt_faces.csv")))}
+gt = load_gt_faces(os.path.join(here, "val80_gt_faces.csv"))
 
 # 1. The arms: means over the 80 meshes, per-mesh differences from base, faces per ground-truth
 # face (the mean of the meshes' ratios).
@@ -34,7 +34,7 @@ print("| arm | rule | CD x100 | NC | ECD x100 | EF1 | faces | holes | CD vs base
       " | holes vs base | faces vs base | faces / gt |")
 print("|---|---|" + "---:|" * 12)
 for arm, rule in ARMS.items():
-    ratio = sum(r["faces"] / gt[n] for n, r in rows[arm].items()) / len(rows[arm])
+    ratio = faces_per_gt(rows[arm], gt)
     line = arm_row(arm, rows[arm], None if arm == "base" else rows["base"], keys)[:-1] + f"| {ratio:.2f}x |"
     print(line.replace(f"| {arm} |", f"| {arm} | {rule} |", 1))
 

@@ -8,12 +8,12 @@ import sys
 
 here = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(here, "..", "..", "..", "..", "bench"))
-from paired import (SURFACE_KEYS, arm_row, diff_cells, finish_paired_plot, load_rows, mean_of,  # noqa: E402
-                    paired_rows)
+from paired import (SURFACE_KEYS, arm_row, diff_cells, faces_per_gt, finish_paired_plot,  # noqa: E402
+                    load_gt_faces, load_rows, mean_of, paired_rows)
 
 ARMS = ["base", "s07", "s10", "s07p2", "s10p2", "s07p4", "s07p2k", "sp2", "shipped_option"]
 rows = {arm: load_rows(os.path.join(here, f"val80_{arm}.per_mesh.csv"), SURFACE_KEYS) for arm in ARMS}
-gt = {r["name"]: float(r["gt_faces"]) for r in csv.DictReader(open(os.path.join(here, "val80_gt_faces.csv")))}
+gt = load_gt_faces(os.path.join(here, "val80_gt_faces.csv"))
 
 # 1. The arms: means over the 80 meshes, per-mesh differences from base, and our faces per
 # ground-truth face (the mean of the meshes' ratios, as BENCHMARKS.md gives it).
@@ -22,7 +22,7 @@ print("| arm | CD x100 | NC | ECD x100 | EF1 | faces | holes | CD vs base | NC v
       " | faces vs base | faces / gt |")
 print("|---|" + "---:|" * 12)
 for arm in ARMS:
-    ratio = sum(r["faces"] / gt[n] for n, r in rows[arm].items()) / len(rows[arm])
+    ratio = faces_per_gt(rows[arm], gt)
     print(arm_row(arm, rows[arm], None if arm == "base" else rows["base"], keys)[:-1] + f"| {ratio:.2f}x |")
 
 # 2. The hard-surface set at seed 0, means over its 8 shapes, then per shape.
