@@ -59,6 +59,19 @@ def faces_per_gt(rows, gt):
     return sum(r["faces"] / gt[n] for n, r in rows.items()) / len(rows)
 
 
+def json_at(commit, path):
+    """The JSON file at `path` (from the repository's root) as commit `commit` had it: a
+    shipped run in bench/ that a later run has since replaced, read from git."""
+    import json
+    import os
+    import subprocess
+
+    root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
+    text = subprocess.run(["git", "-C", root, "show", f"{commit}:{path}"],
+                          capture_output=True, text=True, check=True).stdout
+    return json.loads(text)
+
+
 # The surface figures an experiment's per-mesh CSV carries, in the order its tables print them.
 SURFACE_KEYS = ["cd", "nc", "ecd", "ef1", "faces", "holes"]
 

@@ -283,6 +283,44 @@ pub fn directed_loops(edges: impl IntoIterator<Item = (u32, u32)>) -> Vec<Vec<u3
     loops
 }
 
+/// How many holes `faces` have: the loops their one-face edges make once every vertex where
+/// the surface pinches is split into one vertex per fan of faces around it. Where two holes, or
+/// two stretches of one, meet at a vertex, walking their edges ([`edge_loops`]) can cut them
+/// into more or fewer loops depending on how the walk turns, and splitting the faces changes
+/// the turns (a crumpled mesh with 18 such vertices counted 7 holes, and 13 once every face was
+/// split in four); the fans around a vertex do not change. Counted by union-find over the
+/// faces' corners: corners of one vertex in faces across an edge are one fan, and each
+/// one-face edge joins its two corners' fans; each set holding a corner of a one-face edge is
+/// one hole.
+pub fn hole_count(faces: &[[u32; 3]], inc: &EdgeIncidence) -> usize {
+    let corner = |f: u32, v: u32| {
+        let k = faces[f as usize]
+            .iter()
+            .position(|&x| x == v)
+            .expect("a vertex of its face");
+        3 * f + k as u32
+    };
+    let mut sets = DisjointSets::new(3 * faces.len());
+    let mut on_boundary = Vec::new();
+    for ([a, b], uses) in inc.iter() {
+        if let [one] = uses {
+            let (ca, cb) = (corner(one.face, a), corner(one.face, b));
+            sets.union(ca, cb);
+            on_boundary.push(ca);
+            continue;
+        }
+        for other in &uses[1..] {
+            for v in [a, b] {
+                sets.union(corner(uses[0].face, v), corner(other.face, v));
+            }
+        }
+    }
+    let mut roots: Vec<u32> = on_boundary.into_iter().map(|c| sets.find(c)).collect();
+    roots.sort_unstable();
+    roots.dedup();
+    roots.len()
+}
+
 /// The holes of a consistently wound mesh as directed loops: each edge with one face, walked
 /// against that face ([`directed_loops`]), so a face `(a, b, hub)` for each loop step
 /// `a -> b` winds like its neighbour. Edges with two or more faces are not holes.
@@ -369,7 +407,8 @@ pub struct TopologyReport {
     pub non_manifold_edges: usize,
     /// Edges used by exactly one face.
     pub boundary_edges: usize,
-    /// Boundary loops.
+    /// Boundary loops, with the surface split at the vertices where it pinches
+    /// ([`hole_count`]).
     pub holes: usize,
     /// Edges shared by two faces that walk it in the same direction (inconsistent winding).
     pub inconsistent_winding_edges: usize,
@@ -407,7 +446,7 @@ impl TopologyReport {
                 _ => report.non_manifold_edges += 1,
             }
         }
-        report.holes = edge_loops(&inc.boundary_edges()).len();
+        report.holes = hole_count(&mesh.faces, &inc);
         report.degenerate_faces = degenerate_faces(mesh);
         let (labels, count) = components(mesh.positions.len(), &mesh.faces);
         report.components = count;
@@ -584,6 +623,27 @@ mod tests {
             edge_loops(&[[0, 1], [1, 2], [2, 5], [1, 3], [0, 3]]),
             vec![vec![0, 1, 3]]
         );
+    }
+
+    #[test]
+    fn a_pinch_splits_holes_by_fan_not_by_walk() {
+        // Two triangles meeting at vertex 0: two holes.
+        assert_eq!(hole_count_of(&[[0, 1, 2], [0, 3, 4]]), 2);
+        // A strip of six quads around a ring, its top row closed through vertex 0 and its
+        // bottom row open (vertices 7 and 13 apart): its one-face edges meet twice at 0, but
+        // the surface split there has one hole, which a walk cuts into two loops.
+        let mut faces = Vec::new();
+        for i in 0..6u32 {
+            let (t0, t1) = (i, (i + 1) % 6);
+            let (b0, b1) = (7 + i, 8 + i);
+            faces.extend([[t0, b0, b1], [t0, b1, t1]]);
+        }
+        assert_eq!(hole_count_of(&faces), 1);
+        assert_eq!(boundary_loops(&faces).len(), 2);
+    }
+
+    fn hole_count_of(faces: &[[u32; 3]]) -> usize {
+        hole_count(faces, &EdgeIncidence::new(faces))
     }
 
     #[test]

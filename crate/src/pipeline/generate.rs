@@ -31,7 +31,7 @@ use crate::extract::{
 use crate::geometry::normalize::Normalization;
 use crate::geometry::sample::{sample_surface, subsample_points};
 use crate::geometry::snap::snap_mesh;
-use crate::geometry::topology::TopologyReport;
+use crate::geometry::topology::{TopologyReport, boundary_loops};
 use crate::model::condition::{context_points, inference_positions, vertex_condition};
 use crate::model::dit::{Condition, Dit, DitConfig};
 use crate::model::sampler::{SampleError, Solver, normal_noise, sample};
@@ -1271,8 +1271,9 @@ fn keep_sharpened_all(
 
 /// The candidate a user would keep ([`GenerateOptions::samples`]): the one nearest the input
 /// `points` (in the candidates' frame, with their `planes`): the lowest Chamfer distance to
-/// them, each hole adding [`HOLE_WEIGHT`] of it and the disagreement of its normals with the
-/// planes [`NORMAL_WEIGHT`] times that, then the first; its score is kept in
+/// them, each loop of its rims ([`boundary_loops`]: a pinched rim is several) adding
+/// [`HOLE_WEIGHT`] of it and the disagreement of its normals with the planes
+/// [`NORMAL_WEIGHT`] times that, then the first; its score is kept in
 /// [`Generated::input_score`]. Only the output and the input decide, never a ground truth.
 /// Panics on no candidates.
 pub fn keep_best(candidates: Vec<Generated>, points: &[Vec3], planes: &PointPlanes) -> Generated {
@@ -1294,7 +1295,11 @@ fn rank_by_input(
         return candidates;
     }
     let scores: Vec<f64> = map_in_parallel(candidates.iter().collect(), |_, g| {
-        input_score(&g.mesh, g.topology.holes, points, planes)
+        // The rims as the loops a walk cuts them into, one more at each pinch, rather than
+        // the holes: a candidate whose rims pinch often is ragged, and counted by its holes it
+        // was kept more often, with 18% more boundary edges on 80 validation meshes
+        // (docs/experiments/2026-12-07-hole-count.md).
+        input_score(&g.mesh, boundary_loops(&g.mesh.faces).len(), points, planes)
     });
     for (g, s) in candidates.iter_mut().zip(&scores) {
         g.input_score = Some(*s);
@@ -1306,7 +1311,8 @@ fn rank_by_input(
 
 /// How far a mesh is from the input `points` as [`keep_best`] and [`sharpen_kept`] judge it:
 /// the Chamfer distance between its surface and the points, each of its `holes` adding
-/// [`HOLE_WEIGHT`] of it, and its disagreement with the input's `planes` (one minus
+/// [`HOLE_WEIGHT`] of it (sharpening counts them as [`TopologyReport::holes`], the choice as
+/// rim loops), and its disagreement with the input's `planes` (one minus
 /// [`PointPlanes::normal_agreement`]) [`NORMAL_WEIGHT`] times that (infinite when it cannot
 /// be sampled).
 fn input_score(mesh: &Mesh, holes: usize, points: &[Vec3], planes: &PointPlanes) -> f64 {

@@ -4,14 +4,12 @@ plot of docs/experiments/2026-12-07-redundant-vertices.md from the files beside 
 import csv
 import json
 import os
-import subprocess
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../../bench"))
-from paired import compact_changes, finish_paired_plot, hard_surface_table  # noqa: E402
+from paired import compact_changes, finish_paired_plot, hard_surface_table, json_at  # noqa: E402
 
 here = sys.argv[1] if len(sys.argv) > 1 else os.path.dirname(os.path.abspath(__file__))
-root = os.path.join(os.path.dirname(os.path.abspath(__file__)), "../../../..")
 # base: 8fce4f2 (the shipped pipeline). removed: the same with remove_redundant_vertices on the
 # kept round of sharpening (a quarter of a point spacing).
 ARMS = ["base", "removed"]
@@ -34,9 +32,7 @@ for shape in sorted({r["shape"] for r in rows}):
 # The clean test split: removed (this folder's test_removed_sharpened.json) against the shipped
 # run at 98154af (read from git), per mesh; both compacted by bench/sharpen_eval/compact.py, both
 # on the 2-core AMD EPYC VM.
-shipped_json = subprocess.run(["git", "-C", root, "show", "98154af:bench/sharpen_eval/test_sharpened.json"],
-                              capture_output=True, text=True, check=True).stdout
-shipped = {m["name"]: m for m in json.loads(shipped_json)["per_mesh"]}
+shipped = {m["name"]: m for m in json_at("98154af", "bench/sharpen_eval/test_sharpened.json")["per_mesh"]}
 removed = {m["name"]: m for m in json.load(open(os.path.join(here, "test_removed_sharpened.json")))["per_mesh"]}
 changed = compact_changes(shipped, removed, "Test split, clean: removed against the shipped run")
 

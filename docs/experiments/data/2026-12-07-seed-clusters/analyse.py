@@ -11,7 +11,7 @@ here = os.path.dirname(os.path.abspath(__file__))
 bench = os.path.join(here, "..", "..", "..", "..", "bench")
 sys.path.insert(0, bench)
 from paired import (SURFACE_KEYS, arm_row, diff_cells, faces_per_gt, finish_paired_plot,  # noqa: E402
-                    hard_surface_table, load_gt_faces, load_rows, mean_of, mean_se, paired_rows)
+                    hard_surface_table, json_at, load_gt_faces, load_rows, mean_of, mean_se, paired_rows)
 
 # arm: (the rule, the per-mesh CSV's name)
 ARMS = {
@@ -68,11 +68,11 @@ for arm, rs in [("clusters", list(shipped_clean.values())), ("drop_over", drop)]
     print(f"| clean | {arm} | {m['cd']:.3f} | {m['nc']:.3f} | {m['ef1']:.3f} | {ratio:.2f}x | {m['holes']:.2f} |")
 
 # 3. The test split: the shipped rule, paired against the shipped pipeline without seeding
-# (bench/sharpen_eval/test_sharpened.json) and against every cluster seeded
-# (docs/experiments/data/2026-12-07-seed-uncovered/test_option.per_mesh.csv).
+# (bench/sharpen_eval/test_sharpened.json as 39c4eb4 wrote it, read from git) and against
+# every cluster seeded (docs/experiments/data/2026-12-07-seed-uncovered/test_option.per_mesh.csv).
 names = {"cd_x100": "cd", "nc": "nc", "ecd_x100": "ecd", "ef1": "ef1", "faces": "faces", "holes": "holes"}
-shipped_json = os.path.join(bench, "sharpen_eval", "test_sharpened.json")
-off = {m["name"]: {names[k]: m[k] for k in names} for m in json.load(open(shipped_json))["per_mesh"]}
+off = {m["name"]: {names[k]: m[k] for k in names}
+       for m in json_at("39c4eb4", "bench/sharpen_eval/test_sharpened.json")["per_mesh"]}
 every = load_rows(os.path.join(here, "..", "2026-12-07-seed-uncovered", "test_option.per_mesh.csv"), SURFACE_KEYS)
 clusters = load_rows(os.path.join(here, "test_clusters.per_mesh.csv"), SURFACE_KEYS)
 print()

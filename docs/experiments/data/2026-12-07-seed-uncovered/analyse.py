@@ -63,12 +63,13 @@ finish_paired_plot(fig, ax, "faces a mesh, change from base", "CD x100, change f
 
 # 3. The test split with the option (`meshflow eval generate --split test --complete-seed-gap
 # 0.7`, per mesh in test_option.per_mesh.csv), paired against the shipped run without it
-# (bench/sharpen_eval/test_sharpened.json); ECD over the meshes with sharp edges in both.
-import json  # noqa: E402
+# (bench/sharpen_eval/test_sharpened.json as 39c4eb4 wrote it, read from git); ECD over the
+# meshes with sharp edges in both.
+from paired import json_at  # noqa: E402
 
-shipped_json = os.path.join(here, "..", "..", "..", "..", "bench", "sharpen_eval", "test_sharpened.json")
 names = {"cd_x100": "cd", "nc": "nc", "ecd_x100": "ecd", "ef1": "ef1", "faces": "faces", "holes": "holes"}
-shipped = {m["name"]: {names[k]: m[k] for k in names} for m in json.load(open(shipped_json))["per_mesh"]}
+shipped = {m["name"]: {names[k]: m[k] for k in names}
+           for m in json_at("39c4eb4", "bench/sharpen_eval/test_sharpened.json")["per_mesh"]}
 option = load_rows(os.path.join(here, "test_option.per_mesh.csv"), SURFACE_KEYS)
 print()
 print("| test split (244) | CD x100 | NC | ECD x100 | EF1 | faces | holes |")
