@@ -16,6 +16,8 @@ pub mod mesh;
 pub mod nearest;
 pub mod normalize;
 pub mod normals;
+/// Faces turned outward: each piece wound so that it encloses a positive volume.
+pub mod orient;
 /// The best-fitting plane of a set of points (covariance, direction of least spread).
 pub mod plane_fit;
 /// Planar regions of a point cloud (region growing): the flat parts of a noisy scan.
