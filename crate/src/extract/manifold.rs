@@ -52,7 +52,6 @@ use glam::Vec3;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 use crate::extract::overlap::{FaceLayers, cell_size};
-use crate::geometry::disjoint_sets::DisjointSets;
 use crate::geometry::topology::{self, Edge, rotate_min_first, sorted_face};
 
 /// Smallest cosine allowed between the normals of two faces that share an edge (consistently
@@ -573,7 +572,7 @@ pub fn manifold_faces(
     let mut faces: Vec<[u32; 3]> = surface.alive_faces().map(rotate_min_first).collect();
     faces.sort_unstable();
     if opts.min_component_faces > 1 {
-        let (labels, count) = edge_pieces(&faces);
+        let (labels, count) = topology::edge_pieces(&faces);
         let mut size = vec![0usize; count];
         for &l in &labels {
             size[l as usize] += 1;
@@ -590,20 +589,6 @@ pub fn manifold_faces(
         report.piece_faces_dropped = before - faces.len();
     }
     (faces, report)
-}
-
-/// Pieces of faces joined through shared edges (faces that only touch at a vertex are in
-/// different pieces): a label per face, numbered by first face, and the number of pieces.
-fn edge_pieces(faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
-    let mut sets = DisjointSets::new(faces.len());
-    let mut first_on: HashMap<Edge, u32> = HashMap::default();
-    for (f, &face) in faces.iter().enumerate() {
-        for e in topology::face_edges(face) {
-            let g = *first_on.entry(e).or_insert(f as u32);
-            sets.union(g, f as u32);
-        }
-    }
-    sets.labels(|_| true)
 }
 
 #[cfg(test)]

@@ -9,22 +9,20 @@
 use glam::DVec3;
 
 use crate::Mesh;
-use crate::geometry::disjoint_sets::DisjointSets;
-use crate::geometry::topology::EdgeIncidence;
+use crate::geometry::topology::edge_pieces;
 
 /// A piece whose enclosed volume is below this share of its area to the power 3/2 (a flat
 /// card, a strip) has no outside to face; it is left as it is.
 const FLAT_VOLUME: f64 = 1e-4;
 
-/// Reverses the winding of each piece of `mesh` (faces joined across edges) whose signed
+/// Reverses the winding of each piece of `mesh` ([`edge_pieces`]: faces joined across edges) whose signed
 /// volume, taken about the piece's own area centroid so that an open piece counts too, is
 /// negative: a closed piece then faces out exactly, an open one (a box with a missing side,
 /// a bowl) the way its bulk says. Pieces too flat to enclose anything
 /// ([`FLAT_VOLUME`]) are kept. Vertex normals, where the mesh has them, are negated with
 /// their faces. Returns how many pieces were turned.
 pub fn orient_outward(mesh: &mut Mesh) -> usize {
-    let pieces = face_pieces(&mesh.faces);
-    let count = pieces.iter().map(|&p| p as usize + 1).max().unwrap_or(0);
+    let (pieces, count) = edge_pieces(&mesh.faces);
     let mut area = vec![0.0f64; count];
     let mut centroid = vec![DVec3::ZERO; count];
     for (f, &p) in pieces.iter().enumerate() {
@@ -69,19 +67,6 @@ pub fn orient_outward(mesh: &mut Mesh) -> usize {
         }
     }
     turn.iter().filter(|&&t| t).count()
-}
-
-/// Each face's piece: faces that share an edge are in one piece (winding is consistent only
-/// across edges, so a vertex where two pieces touch does not join them).
-fn face_pieces(faces: &[[u32; 3]]) -> Vec<u32> {
-    let mut sets = DisjointSets::new(faces.len());
-    let inc = EdgeIncidence::new(faces);
-    for (_, uses) in inc.iter() {
-        for pair in uses.windows(2) {
-            sets.union(pair[0].face, pair[1].face);
-        }
-    }
-    sets.labels(|_| true).0
 }
 
 #[cfg(test)]

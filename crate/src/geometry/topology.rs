@@ -353,6 +353,19 @@ pub fn components(num_vertices: usize, faces: &[[u32; 3]]) -> (Vec<u32>, usize) 
     sets.labels(|v| used[v])
 }
 
+/// Pieces of faces joined through shared edges (faces that only touch at a vertex are in
+/// different pieces, as winding is consistent only across edges): a label per face, numbered
+/// by first face, and the number of pieces. A face with a repeated vertex is a piece of its own.
+pub fn edge_pieces(faces: &[[u32; 3]]) -> (Vec<u32>, usize) {
+    let mut sets = DisjointSets::new(faces.len());
+    for (_, uses) in EdgeIncidence::new(faces).iter() {
+        for pair in uses.windows(2) {
+            sets.union(pair[0].face, pair[1].face);
+        }
+    }
+    sets.labels(|_| true)
+}
+
 /// The default of [`is_degenerate`]'s area tolerance, relative to the squared longest side of
 /// the bounding box (so units do not matter).
 pub const DEGENERATE_TOLERANCE: f32 = 1e-10;
@@ -582,6 +595,14 @@ mod tests {
         let mut m = octahedron();
         m.faces[0].swap(1, 2);
         assert_eq!(TopologyReport::of(&m).inconsistent_winding_edges, 3);
+    }
+
+    #[test]
+    fn edge_pieces_join_across_edges_not_at_vertices() {
+        // Two triangles on an edge, a third touching them only at vertex 2, a segment face.
+        let faces = [[0, 1, 2], [2, 1, 3], [2, 4, 5], [6, 6, 7]];
+        assert_eq!(edge_pieces(&faces), (vec![0, 0, 1, 2], 3));
+        assert_eq!(components(8, &faces).1, 2);
     }
 
     #[test]
